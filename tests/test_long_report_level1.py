@@ -54,6 +54,23 @@ def _solved_values(monkeypatch):
     return solved
 
 
+def mapped_values(monkeypatch):
+    """Count the stiffness values the UCS map solves (``len(K)`` of each call of
+    ``ucs_map._synchronous_roots`` from the map's grid, its bearings' curves and its rigid
+    supports; not the crossings' refinement): the list, filled as the map runs."""
+    mapped = []
+    real_roots = ucs_module._synchronous_roots
+
+    def roots(M, G, K, *args, **kwargs):
+        caller = sys._getframe(1)
+        if {caller.f_code.co_name, caller.f_back.f_code.co_name} & {"_ucs_map", "_curve_crossings", "_rigid_support"}:
+            mapped.append(len(K))
+        return real_roots(M, G, K, *args, **kwargs)
+
+    monkeypatch.setattr(ucs_module, "_synchronous_roots", roots)
+    return mapped
+
+
 def test_a_report_of_500_geared_rotors_is_refused_before_any_section(tmp_path, capsys, no_solutions):
     path = tmp_path / "chain.toml"
     path.write_text(chained_gear_toml(500, 500) + SENSOR)
@@ -79,17 +96,7 @@ def test_the_report_estimate_counts_what_the_report_then_solves(monkeypatch, cap
     collect_module = importlib.import_module("rotordyn_modal.report.collect")   # not the function collect
 
     solved = _solved_values(monkeypatch)
-    mapped = []
-    real_roots = ucs_module._synchronous_roots
-
-    def roots(M, G, K, *args, **kwargs):
-        # the map's grid, its bearings' curves and its rigid supports (not the crossings' refinement)
-        caller = sys._getframe(1)
-        if {caller.f_code.co_name, caller.f_back.f_code.co_name} & {"_ucs_map", "_curve_crossings", "_rigid_support"}:
-            mapped.append(len(K))
-        return real_roots(M, G, K, *args, **kwargs)
-
-    monkeypatch.setattr(ucs_module, "_synchronous_roots", roots)
+    mapped = mapped_values(monkeypatch)
     cases = []
     real_cases = unbalance_module.api_unbalance_cases
     monkeypatch.setattr(unbalance_module, "api_unbalance_cases", lambda *a: cases.append(real_cases(*a)) or cases[-1])

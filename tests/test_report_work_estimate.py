@@ -18,11 +18,11 @@ from pathlib import Path
 import pytest
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _cost, _work, level1 as level1_module, ucs_map as ucs_module
+from rotordyn_modal.analysis import _cost, _work, level1 as level1_module
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_large_machine_cli import chained_gear_toml  # noqa: E402
-from test_long_report_level1 import SENSOR  # noqa: E402
+from test_long_report_level1 import SENSOR, mapped_values  # noqa: E402
 
 collect_module = importlib.import_module("rotordyn_modal.report.collect")   # not the function collect
 
@@ -107,16 +107,7 @@ def test_a_ucs_map_widened_to_the_bearings_own_stiffness_is_counted(examples_dir
     second map was not counted)."""
     model = rdm.load_model(examples_dir / "spring_block_rotor.toml")
     inputs = collect_module.ReportInputs(standard="api684", mcs=rdm.rpm(3000.0), points=11)
-    mapped = []
-    real_roots = ucs_module._synchronous_roots
-
-    def roots(M, G, K, *args, **kwargs):
-        caller = sys._getframe(1)
-        if {caller.f_code.co_name, caller.f_back.f_code.co_name} & {"_ucs_map", "_curve_crossings", "_rigid_support"}:
-            mapped.append(len(K))
-        return real_roots(M, G, K, *args, **kwargs)
-
-    monkeypatch.setattr(ucs_module, "_synchronous_roots", roots)
+    mapped = mapped_values(monkeypatch)
     collect_module._ucs(data := collect_module.ReportData(inputs, model, {}, ("ucs",)))
     result = data.results["ucs"]
     assert result.stiffness[0] < 2e3 < 1e5                        # the second map's grid

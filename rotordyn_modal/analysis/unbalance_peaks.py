@@ -73,13 +73,14 @@ def unresolved_criticals(model, speeds, ratios):
     return [found[abs(float(r))] for r in ratios]
 
 
-def not_looked_for(model, speeds, form=None) -> str:
+def not_looked_for(model, speeds, form=None, n_states=None) -> str:
     """Why the peaks between ``speeds`` (N,) [rad/s] are not looked for (the unbalance figure's
     legend says it), or '' where they are: a large model, or eigen-solutions of the sweep
-    costing more than :data:`_WORK` (``form``: the model's state form, if made already)."""
+    costing more than :data:`_WORK` (``form``: the model's state form, if made already;
+    ``n_states``: its size, if known)."""
     if is_large(model):
         return f"not looked for in a model of {model.dofs.n} coordinates"
-    n_states = (form or speed_linear_form(model)).n_states
+    n_states = (form or speed_linear_form(model)).n_states if n_states is None else n_states
     if np.unique(np.asarray(speeds, dtype=float)).size * float(n_states) ** 3 > _WORK:
         return f"not looked for: {len(np.unique(speeds))} eigen-solutions of {n_states} states"
     return ""

@@ -500,34 +500,26 @@ _COPIED_PIPES = ("measured",)
 @contextlib.contextmanager
 def pipes_copied(args):
     """Each ``--measured`` given a pipe (``<(cat m.uff)``, ``/dev/stdin`` of a pipe, a FIFO a
-    program writes to) read once into a temporary file (:func:`rotordyn_modal.io.measured.copy_of_pipe`:
+    program writes to) read once into a temporary file (:func:`rotordyn_modal.io.measured.piped_copy`:
     the format its ending or its bytes show), ``args.measured`` then naming it, as models are
     read from pipes. ``args.shown_names`` maps the copy's name back to the name typed (messages
     say that one: :func:`shown_as_typed`). The copies are removed at the end."""
-    import os
-    import stat
-    import tempfile
+    from ..io.limits import is_fifo
 
     piped = []
     for dest, _ in getattr(args, "file_options", {}).get("input", ()):
         path = getattr(args, dest, None)
-        if dest in _COPIED_PIPES and path not in (None, "", "-"):
-            try:
-                if stat.S_ISFIFO(os.stat(path).st_mode):
-                    piped.append((dest, path))
-            except (OSError, ValueError):
-                pass                            # missing, unreadable: the reader says so
+        if dest in _COPIED_PIPES and path not in (None, "", "-") and is_fifo(path):   # missing: the reader says so
+            piped.append((dest, path))
     if not piped:
         yield
         return
-    from ..io.measured import copy_of_pipe
+    from ..io.measured import piped_copy
 
-    with tempfile.TemporaryDirectory(prefix="rotordyn-modal-pipe-") as folder:
+    with contextlib.ExitStack() as copies:
         args.shown_names = {}
-        for k, (dest, path) in enumerate(piped):
-            part = os.path.join(folder, str(k))
-            os.mkdir(part)
-            duplicate = str(copy_of_pipe(path, part))
+        for dest, path in piped:
+            duplicate = str(copies.enter_context(piped_copy(path)))
             args.shown_names[duplicate] = str(path)
             setattr(args, dest, duplicate)
         yield

@@ -30,8 +30,8 @@ _HEADER = re.compile(r"^(?P<name>.*?)\s*(?:\[(?P<bracket>[^\]]*)\]|\((?P<paren>[
 def read_csv_table(data: bytes, path, what: str, text_only: bool = False, skip_blank_lines: bool = True):
     """A CSV table of ``data`` (a file's bytes): its cells as text without the spaces around them
     (names stay as written otherwise: ``01``, ``NA``), the header names stripped, and the decimal
-    mark of its numbers. ``table.attrs['first_line']`` is the file's line of the first row
-    (:func:`numbers` names lines by it).
+    mark of its numbers. ``table.attrs['lines']`` holds the file's line of each row
+    (:func:`numbers` and :func:`file_line` name lines by it).
 
     Parameters
     ----------
@@ -84,7 +84,6 @@ def read_csv_table(data: bytes, path, what: str, text_only: bool = False, skip_b
     lines = table.attrs["lines"]
     table = _without_trailing_empty_rows(table)
     table.attrs["lines"] = lines[:len(table)]
-    table.attrs["first_line"] = int(lines[0]) if len(lines) else start + 2
     return table, decimal
 
 
@@ -219,10 +218,9 @@ def _without_trailing_empty_rows(table):
     return table.iloc[:keep]
 
 
-def numbers(table, name, path, decimal: str = ".", first_line: int | None = None):
+def numbers(table, name, path, decimal: str = "."):
     """A column of text cells (:func:`read_csv_table`) as floats; an empty cell is NaN, a cell that
-    is no number is refused naming its line (``first_line``: the file's line of the first row;
-    by default the table's ``attrs['first_line']``, else 2).
+    is no number is refused naming its line (:func:`file_line`).
 
     Returns
     -------
@@ -237,18 +235,18 @@ def numbers(table, name, path, decimal: str = ".", first_line: int | None = None
     bad = np.isnan(values) & ~cells.str.lower().isin(_EMPTY).to_numpy()
     if bad.any():
         row = int(np.argmax(bad))
-        raise InputError(f"{path}: column {name} line {file_line(table, row, first_line)} = {cells.iloc[row][:40]!r}: "
+        raise InputError(f"{path}: column {name} line {file_line(table, row)} = {cells.iloc[row][:40]!r}: "
                          "expected a number")
     return values
 
 
-def file_line(table, row: int, first_line: int | None = None) -> int:
+def file_line(table, row: int) -> int:
     """The file line of the table's row ``row`` (from 0): ``attrs['lines']`` (:func:`read_csv_table`),
-    else ``first_line`` (or ``attrs['first_line']``, else 2) plus the row."""
+    else the row plus 2 (a header on line 1)."""
     lines = table.attrs.get("lines")
-    if first_line is None and lines is not None and len(lines) == len(table):
+    if lines is not None and len(lines) == len(table):
         return int(lines[row])
-    return row + (table.attrs.get("first_line", 2) if first_line is None else first_line)
+    return row + 2
 
 
 def split_header(cell) -> tuple[str, str | None]:

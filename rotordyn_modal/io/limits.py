@@ -19,7 +19,7 @@ from .._limits import environment_number
 from ..errors import InputError
 
 __all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "PIPE_WAIT_S", "check_size", "limit_bytes", "read_limited",
-           "input_path", "refuse_unsized", "refuse_compressed", "unreadable"]
+           "input_path", "refuse_unsized", "refuse_compressed", "unreadable", "is_fifo"]
 
 #: default limit of model and study files [MB]; environment: ROTORDYN_MODAL_MAX_MODEL_MB
 MODEL_FILE_MB = 10
@@ -191,16 +191,31 @@ def read_limited(path, kind: str, what: str) -> bytes:
     return data
 
 
+def is_fifo(path) -> bool:
+    """True for a named pipe (``<(cat m.uff)``'s /dev/fd/63, ``/dev/stdin`` of a pipe, a FIFO);
+    False for anything else, and for a path that cannot be looked at (missing, unreadable: its
+    reader says why).
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    bool
+    """
+    try:
+        return stat.S_ISFIFO(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        return False
+
+
 def _open_input(path, what: str):
     """``open(path, 'rb')``; a named pipe (FIFO) is opened without waiting for a writer, then
     waited for :data:`PIPE_WAIT_S` until a program writes to it or closes it (``<(cat m.toml)``
     and a writer started before or just after are read whole; a FIFO nothing writes to was
     waited for forever, as ``open`` does)."""
-    try:
-        is_pipe = stat.S_ISFIFO(os.stat(path).st_mode)
-    except (OSError, ValueError):
-        is_pipe = False
-    if not is_pipe:
+    if not is_fifo(path):
         return open(path, "rb")
     fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
     try:

@@ -24,6 +24,7 @@ direction (signed).
 
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 
@@ -35,7 +36,8 @@ from ..model._table import visible_names
 from .channels import ChannelMap, assemble, default_mapping, read_mapping
 
 __all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap",
-           "check_mapping_used", "is_universal_file", "sniffed_ending", "copy_of_pipe"]
+           "check_mapping_used", "is_universal_file", "sniffed_ending", "copy_of_pipe",
+           "piped_copy"]
 
 _QUANTITIES = ("receptance", "mobility", "accelerance")
 
@@ -56,10 +58,10 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
     list of FRFResult
         One per speed, sorted by speed; ``engine='measured'``.
     """
-    from .limits import input_path
+    from .limits import input_path, is_fifo
 
     path = input_path(path, "measured-data file")
-    if _is_pipe(path):
+    if is_fifo(path):
         return _read_from_pipe(path, model, mapping)
     if not path.is_file():
         if path.is_symlink() and not path.exists():
@@ -72,11 +74,11 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
 
     try:
         with open(path, "rb") as handle:
-            head = handle.read(16)
+            head = handle.read(512)
     except OSError as error:   # a file without read permission: PermissionError, exit 1
         raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
     refuse_compressed(head, path, "measured-data file")   # m.uff.gz was "unknown measured data format '.gz'"
-    if is_universal_file(path):
+    if path.suffix.lower() in UFF_ENDINGS or _universal_head(head):   # is_universal_file of the head read
         from .uff import NoFunctionData, read_uff58
 
         if mapping is None or isinstance(mapping, ChannelMap):
@@ -87,7 +89,7 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
             return read_uff58(path, model, channel_map)
         except NoFunctionData as error:
             raise _with_2414(error, path) from None
-    ending = path.suffix.lower() or _ending_of(path)    # /dev/stdin of a file, a name without an ending
+    ending = path.suffix.lower() or sniffed_ending(head)    # /dev/stdin of a file, a name without an ending
     if ending in TABLE_ENDINGS:
         if mapping is not None and not isinstance(mapping, ChannelMap):
             read_mapping(mapping, model)   # a missing or broken table named is refused, never passed over
@@ -100,23 +102,10 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
                      f"{time_records}")
 
 
-def _is_pipe(path) -> bool:
-    """True for a named pipe (``<(cat m.uff)``'s /dev/fd/63, ``/dev/stdin`` of a pipe, a FIFO)."""
-    import stat
-
-    try:
-        return stat.S_ISFIFO(os.stat(path).st_mode)
-    except (OSError, ValueError):
-        return False
-
-
 def _read_from_pipe(path, model, mapping):
     """:func:`read_measured` of a pipe: its bytes copied into a temporary file
-    (:func:`copy_of_pipe`), read, and removed; messages name the pipe."""
-    import tempfile
-
-    with tempfile.TemporaryDirectory(prefix="rotordyn-modal-pipe-") as folder:
-        copy = copy_of_pipe(path, folder)
+    (:func:`piped_copy`), read, and removed; messages name the pipe."""
+    with piped_copy(path) as copy:
         try:
             return read_measured(copy, model, mapping)
         except InputError as error:
@@ -183,17 +172,29 @@ def sniffed_ending(head: bytes) -> str:
     return ".uff" if _universal_head(head) else ".csv"
 
 
-def _ending_of(path) -> str:
-    """:func:`sniffed_ending` of a regular file's first bytes ('' when it cannot be read: the reader says why)."""
-    try:
-        with open(path, "rb") as handle:
-            return sniffed_ending(handle.read(512))
-    except OSError:
-        return ""
-
-
 #: endings whose name says a measured file's format (any other is told from the bytes)
 _KNOWN_ENDINGS = (".uff", ".unv", ".uf", ".csv", ".txt", ".tsv", ".tdms")
+
+
+@contextlib.contextmanager
+def piped_copy(path):
+    """:func:`copy_of_pipe` of the pipe ``path`` in a temporary folder of its own, removed (with
+    the copy) at the end.
+
+    Parameters
+    ----------
+    path : path-like
+        A named pipe (:func:`.limits.is_fifo`).
+
+    Yields
+    ------
+    Path
+        The copy.
+    """
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="rotordyn-modal-pipe-") as folder:
+        yield copy_of_pipe(path, folder)
 
 
 def copy_of_pipe(path, folder) -> Path:
@@ -387,8 +388,7 @@ def _units_row_folded(table, path):
                              "under it (a row of units): expected one unit")
         renamed[column] = f"{column} [{unit}]" if given is None else column
     folded = table.iloc[1:].rename(columns=renamed).reset_index(drop=True)
-    folded.attrs = {**table.attrs, "first_line": table.attrs.get("first_line", 2) + 1,
-                    "lines": table.attrs.get("lines", [])[1:]}
+    folded.attrs = {**table.attrs, "lines": table.attrs.get("lines", [])[1:]}
     return folded
 
 

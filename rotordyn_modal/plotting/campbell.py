@@ -937,7 +937,7 @@ class _CampbellLabels:
 
         def cost(box):
             start = nearest_in(box, anchor)
-            return box_distance(box * to_px, u / self.to_u, v / self.to_v) \
+            return distance(box) \
                 + _CROSSING_COST * h / self.to_v * self.curves.crossings(start, anchor, keep)
 
         def distance(box):
@@ -964,7 +964,7 @@ class _CampbellLabels:
                                  bound=distance)
         if box is None:
             return None, None
-        if cost(box) > max(_MOST_COST * h / self.to_v, box_distance(box * to_px, u / self.to_u, v / self.to_v)):
+        if cost(box) > max(_MOST_COST * h / self.to_v, distance(box)):
             placed.pop()
             return None, None
         start = nearest_in(box, anchor)
@@ -977,7 +977,7 @@ class _CampbellLabels:
     def _mode_curves(self):
         """Where the curves run but the order lines (:class:`CurveMap`, axes fraction), made once
         per drawing."""
-        if getattr(self, "mode_map", None) is None:
+        if self.mode_map is None:      # place() sets it to None before any leader is placed
             ax = self.ax
             orders = [line for line in ax.get_lines() if line.get_gid() == "order-line"]
             self.mode_map = CurveMap(ax, self.renderer, units="axes",

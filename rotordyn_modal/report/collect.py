@@ -444,7 +444,7 @@ def _peak_search(model, inputs, n_states) -> tuple:
     # imported here, not first: it binds _eigensolve's functions when first imported (tests replace them)
     from ..analysis import unbalance_peaks
 
-    if x.size * float(n_states) ** 3 > unbalance_peaks._WORK:
+    if unbalance_peaks.not_looked_for(model, x, n_states=n_states):
         return 0.0, 0
     frequencies = _work._undamped_frequencies(model, float(x[len(x) // 2]))
     frequencies = np.zeros(0) if frequencies is None else np.sort(frequencies[frequencies > 0])
@@ -462,8 +462,6 @@ def _timed_response(model, speed) -> tuple:
     (:func:`..analysis.frf.dof_response`) at one speed, and per speed of a call at 8 speeds,
     near ``speed`` [rad/s]: timed on the model, as it runs (its matrices assembled at each call,
     the solve with the BLAS threads it takes)."""
-    import time
-
     from ..analysis import _cost
     from ..analysis.frf import dof_response
 
@@ -471,12 +469,7 @@ def _timed_response(model, speed) -> tuple:
     times = []
     for count in (1, 8):
         w = np.linspace(0.9, 1.1, count) * speed
-        best = np.inf
-        for _ in range(_cost._REPEATS):         # the shortest: a shared machine's single timing varies
-            start = time.process_time()
-            dof_response(model, np.full(count, speed), w, forces)
-            best = min(best, time.process_time() - start)
-        times.append(best)
+        times.append(_cost.shortest_cpu(lambda: dof_response(model, np.full(count, speed), w, forces)))
     return times[0], times[1] / 8
 
 

@@ -115,11 +115,7 @@ def _exact_root_at(stack, v, speed, near, sign, always=False):
     form = stack.forms[v]
     values, shapes = _eigensolve.solve_batch(form, np.array([speed]))
     values, shapes = values[0], shapes[0]
-    stiffness, damping = form.pencil_at(np.array([speed]))
-    damping = (damping + speed * form.matrices.G).reshape(damping.shape[-2:])
-    stiffness = stiffness.reshape(stiffness.shape[-2:])
-    branches = _eigensolve.branch_terms(form)
-    bound = _eigensolve.pencil_round_off(values, shapes, form.matrices.M, damping, stiffness, branches=branches)
+    bound, damping, stiffness, branches = _eigensolve.round_off_at(form, speed, values, shapes)
     reach = max(np.max(bound), 1e-6) * 4 * abs(near)
     close = np.flatnonzero(np.abs(values - near) <= reach)
     if not len(close):

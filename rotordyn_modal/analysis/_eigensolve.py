@@ -673,6 +673,37 @@ def branch_terms(form):
     return np.asarray(form.branch_blocks)[:, :k, :k], np.asarray(form.branch_times)
 
 
+def round_off_at(form, speed, values, shapes):
+    """The round-off of one speed's roots (:func:`pencil_round_off`) and the pencil it is taken on,
+    for :func:`refined_pairs` to polish them.
+
+    Parameters
+    ----------
+    form : SpeedLinearForm
+    speed : float
+        The speed [rad/s].
+    values : ndarray, shape (m,), complex
+        The roots [1/s].
+    shapes : ndarray, shape (m, n), complex
+        Their shapes.
+
+    Returns
+    -------
+    bound : ndarray, shape (m,)
+        Each root's round-off [1/s].
+    damping, stiffness : ndarray, shape (n, n)
+        The pencil's damping (gyroscopic terms at ``speed`` included) and stiffness at ``speed``.
+    branches : tuple or None
+        The form's Maxwell branches (:func:`branch_terms`).
+    """
+    branches = branch_terms(form)
+    stiffness, damping = form.pencil_at(np.array([speed]))
+    damping = damping + speed * form.matrices.G
+    damping, stiffness = damping.reshape(damping.shape[-2:]), stiffness.reshape(stiffness.shape[-2:])
+    bound = pencil_round_off(values, shapes, form.matrices.M, damping, stiffness, branches=branches)
+    return bound, damping, stiffness, branches
+
+
 def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None, branches=None):
     """The roots of one speed whose round-off ``bound`` (:func:`pencil_round_off`) exceeds
     :data:`INEXACT_LEVEL`, polished in place on the quadratic pencil: those whose neighbour in

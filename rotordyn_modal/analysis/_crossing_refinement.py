@@ -66,7 +66,7 @@ def _exact_crossings(stack, brackets, roots, lam, phi, sure):
     (:func:`_exact_root_at`) until a step is below ``_STEP_TOLERANCE``; the pencil iteration above
     converges to a nearby pencil's root (its residual in double), off by the root's round-off
     (docs/theory.md, "Close roots"). Every other stack's crossings are returned as they are."""
-    if not getattr(stack, "inexact", False) or not len(roots):
+    if not stack.inexact or not len(roots):
         return roots, lam, phi, sure
     roots, lam, phi = roots.copy(), lam.copy(), phi.copy()
     for p in range(len(roots)):

@@ -19,15 +19,20 @@ command line's and the Python API's own process.
 :func:`seeded_start`: the one fixed start vector of ARPACK's iterations (and of an inverse
 iteration's right-hand side), for every caller on every floor (the shaft's bending frequencies in
 :mod:`.model.flexible`, the analyses' Lanczos and Arnoldi, ``check``'s rigid-body count).
+
+:func:`lapack`: a LAPACK routine called through ``ctypes`` (the GIL released), for the dense
+eigen-solution (:func:`.analysis._eigensolve.eig`) and the banded solves of
+:mod:`.analysis._lowest_pencils`.
 """
 
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import functools
 import sys
 
-__all__ = ["one_blas_thread", "BLAS_THREADED_BYTES", "seeded_start"]
+__all__ = ["one_blas_thread", "BLAS_THREADED_BYTES", "seeded_start", "lapack"]
 
 #: the seed of :func:`seeded_start`
 _START_SEED = 20261129
@@ -79,3 +84,22 @@ def seeded_start(n: int):
     import numpy as np
 
     return np.random.default_rng(_START_SEED).standard_normal(n)
+
+
+@functools.lru_cache(maxsize=5)
+def lapack(name: str):
+    """LAPACK's ``zgbsv``, ``zgbtrf``, ``zgbtrs`` or ``dgeev`` as a ``ctypes`` function (its pointer
+    from ``scipy.linalg.cython_lapack``; ``ctypes`` releases the GIL during the call), or None where
+    it cannot be had."""
+    try:
+        from scipy.linalg import cython_lapack
+
+        capsule = cython_lapack.__pyx_capi__[name]
+        get_name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
+        pointer = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_char_p)(
+            ("PyCapsule_GetPointer", ctypes.pythonapi))
+        address = pointer(capsule, get_name(capsule))
+    except (ImportError, AttributeError, KeyError, ValueError, OSError):   # pragma: no cover
+        return None
+    arguments = {"zgbsv": 10, "zgbtrf": 8, "zgbtrs": 11, "dgeev": 14}[name]
+    return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * arguments))(address) if address else None

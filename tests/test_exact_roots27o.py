@@ -17,28 +17,18 @@ report, ``notes/reports15/roots27o_scripts``).
 from __future__ import annotations
 
 import re
-import warnings
 
 import numpy as np
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _eigensolve, _lowest_newton
-from rotordyn_modal.errors import ModelWarning
 
-from test_exact_roots27l import _maxwell_model
+from test_exact_roots27l import _caught, _maxwell_model
 
 SPEED = rdm.rpm(3000.0)
 #: the Maxwell model's lowest pair at 3,000 rpm, 40-digit Newton: frequency [Hz] and real part [1/s]
 PAIR_HZ = np.array([0.553086505762741033200679, 0.553122449053800861556568])
 PAIR_REAL = np.array([-3.850937285102517445137707e-05, -3.852243288660997973766916e-05])
-
-
-def _caught(call):
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        result = call()
-    return result, [str(w.message) for w in caught
-                    if issubclass(w.category, ModelWarning) and "exact only to" in str(w.message)]
 
 
 def _lowest_pair(values):

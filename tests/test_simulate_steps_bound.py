@@ -20,6 +20,7 @@ import pytest
 import scipy.linalg
 
 import rotordyn_modal as rdm
+from rotordyn_modal.analysis import _eigensolve
 from rotordyn_modal.linear_system import speed_linear_form
 from rotordyn_modal.simulation._system import system_arrays
 from test_large_machine_cli import chained_gear_toml
@@ -40,15 +41,17 @@ def model():
 
 
 def _record(monkeypatch, name, calls=None):
-    """``scipy.linalg.<name>``'s calls, recorded in ``calls`` (a new list by default), which is returned."""
+    """``scipy.linalg.<name>``'s calls, recorded in ``calls`` (a new list by default), which is returned.
+    ``eig``: also ``_eigensolve.eig``'s, the dense eigen-solution that calls LAPACK itself."""
     calls = [] if calls is None else calls
-    original = getattr(scipy.linalg, name)
+    for module in (scipy.linalg, _eigensolve) if name == "eig" else (scipy.linalg,):
+        original = getattr(module, name)
 
-    def recorded(*args, **kwargs):
-        calls.append(name)
-        return original(*args, **kwargs)
+        def recorded(*args, _original=original, **kwargs):
+            calls.append(name)
+            return _original(*args, **kwargs)
 
-    monkeypatch.setattr(scipy.linalg, name, recorded)
+        monkeypatch.setattr(module, name, recorded)
     return calls
 
 

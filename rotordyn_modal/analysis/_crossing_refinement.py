@@ -66,7 +66,7 @@ def _exact_crossings(stack, brackets, roots, lam, phi, sure):
     (:func:`_exact_root_at`) until a step is below ``_STEP_TOLERANCE``; the pencil iteration above
     converges to a nearby pencil's root (its residual in double), off by the root's round-off
     (docs/theory.md, "Close roots"). Every other stack's crossings are returned as they are."""
-    if not getattr(stack, "inexact", False) or not len(roots):
+    if not stack.inexact or not len(roots):
         return roots, lam, phi, sure
     roots, lam, phi = roots.copy(), lam.copy(), phi.copy()
     for p in range(len(roots)):
@@ -115,11 +115,7 @@ def _exact_root_at(stack, v, speed, near, sign, always=False):
     form = stack.forms[v]
     values, shapes = _eigensolve.solve_batch(form, np.array([speed]))
     values, shapes = values[0], shapes[0]
-    stiffness, damping = form.pencil_at(np.array([speed]))
-    damping = (damping + speed * form.matrices.G).reshape(damping.shape[-2:])
-    stiffness = stiffness.reshape(stiffness.shape[-2:])
-    branches = _eigensolve.branch_terms(form)
-    bound = _eigensolve.pencil_round_off(values, shapes, form.matrices.M, damping, stiffness, branches=branches)
+    bound, damping, stiffness, branches = _eigensolve.round_off_at(form, speed, values, shapes)
     reach = max(np.max(bound), 1e-6) * 4 * abs(near)
     close = np.flatnonzero(np.abs(values - near) <= reach)
     if not len(close):

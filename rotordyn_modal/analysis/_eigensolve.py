@@ -13,6 +13,7 @@ import functools
 
 import numpy as np
 
+from .._blas import lapack
 from . import _batches, _roots, _vectors
 
 __all__ = ["REPEATED_TOLERANCE", "TIE_TOLERANCE", "eig", "eigenvalues_of", "frequency_order", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
@@ -216,21 +217,10 @@ def eig(matrix: np.ndarray):
     return values, out
 
 
-@functools.lru_cache(maxsize=1)
 def _dgeev():
-    """LAPACK's ``dgeev`` as a ``ctypes`` function (its pointer from ``scipy.linalg.cython_lapack``;
-    ``ctypes`` releases the GIL during the call), or None where it cannot be had."""
-    try:
-        from scipy.linalg import cython_lapack
-
-        capsule = cython_lapack.__pyx_capi__["dgeev"]
-        get_name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
-        pointer = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_char_p)(
-            ("PyCapsule_GetPointer", ctypes.pythonapi))
-        address = pointer(capsule, get_name(capsule))
-    except (ImportError, AttributeError, KeyError, ValueError, OSError):   # pragma: no cover
-        return None
-    return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * 14))(address) if address else None
+    """LAPACK's ``dgeev`` as a ``ctypes`` function (``ctypes`` releases the GIL during the call), or
+    None where it cannot be had (:func:`.._blas.lapack`, cached there)."""
+    return lapack("dgeev")
 
 
 def select_upper(values: np.ndarray) -> np.ndarray:
@@ -681,6 +671,37 @@ def branch_terms(form):
         return None
     k = form.model.dofs.n_frame
     return np.asarray(form.branch_blocks)[:, :k, :k], np.asarray(form.branch_times)
+
+
+def round_off_at(form, speed, values, shapes):
+    """The round-off of one speed's roots (:func:`pencil_round_off`) and the pencil it is taken on,
+    for :func:`refined_pairs` to polish them.
+
+    Parameters
+    ----------
+    form : SpeedLinearForm
+    speed : float
+        The speed [rad/s].
+    values : ndarray, shape (m,), complex
+        The roots [1/s].
+    shapes : ndarray, shape (m, n), complex
+        Their shapes.
+
+    Returns
+    -------
+    bound : ndarray, shape (m,)
+        Each root's round-off [1/s].
+    damping, stiffness : ndarray, shape (n, n)
+        The pencil's damping (gyroscopic terms at ``speed`` included) and stiffness at ``speed``.
+    branches : tuple or None
+        The form's Maxwell branches (:func:`branch_terms`).
+    """
+    branches = branch_terms(form)
+    stiffness, damping = form.pencil_at(np.array([speed]))
+    damping = damping + speed * form.matrices.G
+    damping, stiffness = damping.reshape(damping.shape[-2:]), stiffness.reshape(stiffness.shape[-2:])
+    bound = pencil_round_off(values, shapes, form.matrices.M, damping, stiffness, branches=branches)
+    return bound, damping, stiffness, branches
 
 
 def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None, branches=None):

@@ -19,6 +19,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 from scipy.linalg.lapack import zgbsv as _scipy_zgbsv
 
+from .._blas import lapack
 from . import _batches, _pencils
 
 __all__: list[str] = []
@@ -344,23 +345,7 @@ class _Zgbsv:
 _zgbsv = _Zgbsv()
 
 
-@functools.lru_cache(maxsize=4)
-def _lapack(name: str):
-    """LAPACK's ``zgbsv``, ``zgbtrf`` or ``zgbtrs`` as a ``ctypes`` function (its pointer from
-    ``scipy.linalg.cython_lapack``; ``ctypes`` releases the GIL during the call), or None where it
-    cannot be had."""
-    try:
-        from scipy.linalg import cython_lapack
-
-        capsule = cython_lapack.__pyx_capi__[name]
-        get_name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
-        pointer = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_char_p)(
-            ("PyCapsule_GetPointer", ctypes.pythonapi))
-        address = pointer(capsule, get_name(capsule))
-    except (ImportError, AttributeError, KeyError, ValueError, OSError):   # pragma: no cover
-        return None
-    arguments = {"zgbsv": 10, "zgbtrf": 8, "zgbtrs": 11}[name]
-    return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * arguments))(address) if address else None
+_lapack = lapack       # LAPACK's zgbsv, zgbtrf, zgbtrs as ctypes functions (:func:`.._blas.lapack`)
 
 
 _NO_TRANSPOSE = ctypes.c_char(b"N")

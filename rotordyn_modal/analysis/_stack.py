@@ -36,6 +36,8 @@ class Stack:
         The constant parts (speed-dependent bearings come from each form).
     factor : ndarray, shape (V, n, n)
         Cholesky factor of each M (for mass-weighted shapes).
+    inexact : bool
+        Whether a sweep's roots needed the round-off polish (:func:`.campbell._refine_inexact`).
     """
 
     def __init__(self, models):
@@ -59,6 +61,9 @@ class Stack:
         # speeds work on its sparse matrices (``sparse_constant``) and may never need them dense
         self._stacked_parts = None
         self._weighting = None   # how shapes are mass-weighted: see _modal_weighting
+        #: whether a sweep's roots needed the polish of double precision's round-off (set by
+        #: :func:`.campbell._refine_inexact`): the critical speeds are then refined on polished roots
+        self.inexact = False
         #: the lowest modes' route's basis, kept for its later sweeps of this stack (the critical
         #: speeds' sub-sweeps): ``{"basis": (omegas, modes, K_0), "products": ...}`` once that route
         #: ran (``_lowest._stack_bound``), else None; see :attr:`undamped_modes`

@@ -333,11 +333,7 @@ def _refine_inexact(form, speed, values, shapes, stacklevel=4) -> np.ndarray | N
     round-off (:func:`._eigensolve.pencil_round_off`) exceeds :data:`._eigensolve.INEXACT_LEVEL`:
     pairs closer than it polished in place (:func:`._eigensolve.refined_pairs`), the rest warned of;
     returns the error left (m,) (a model with Maxwell branches: on its rational pencil)."""
-    branches = _eigensolve.branch_terms(form)
-    stiffness, damping = form.pencil_at(np.array([speed]))
-    damping = damping + speed * form.matrices.G
-    damping, stiffness = damping.reshape(damping.shape[-2:]), stiffness.reshape(stiffness.shape[-2:])
-    bound = _eigensolve.pencil_round_off(values, shapes, form.matrices.M, damping, stiffness, branches=branches)
+    bound, damping, stiffness, branches = _eigensolve.round_off_at(form, speed, values, shapes)
     bound = _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound, branches=branches)
     _eigensolve.warn_of_inexact_roots([speed], bound[None], stacklevel=stacklevel)
     return bound

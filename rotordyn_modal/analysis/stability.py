@@ -11,11 +11,10 @@ from scipy.optimize import brentq
 
 from .._progress import phase
 from ..errors import InputError, ModelWarning
-from ..linear_system import speed_linear_form
 from . import _eigensolve, _roots, _whirl
 from ._stack import Stack
 from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest, _check_speeds, _refine_inexact,
-                       _lowest_whirl_round_off, _progress, lowest_stack, solve_sweep, solve_sweeps, stack_root_count)
+                       _lowest_whirl_round_off, _progress, lowest_stack, solve_sweeps, stack_root_count)
 from .modal import is_oscillating, modal, modal_quantities
 from .mode_numbers import numbers_at_speed
 
@@ -307,12 +306,13 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
             modes = None                        # N at least every root: every root, as campbell
         if modes is not None or max_frequency is not None:
             return _stability_lowest(stack, speeds, modes, max_frequency)
-    form = speed_linear_form(model)
-    eigenvalues, shapes, _, noise = solve_sweep(model, speeds, progress, whirl_noise=True)
+    stack = Stack([model])                  # one linear form for the sweep, the polish and the thresholds
+    form = stack.forms[0]
+    values, all_shapes, _, (noise,) = solve_sweeps(stack, speeds, progress, whirl_noise=True)
+    eigenvalues, shapes, noise = values[0], all_shapes[0], noise[0]
     with phase(progress, "whirl and round-off"):
         # the roots double precision leaves inexact polished, as campbell's (docs/theory.md, "Close roots")
-        stack = Stack([model])
-        inexact = _refine_inexact(stack, speeds, eigenvalues[None], shapes[None])
+        inexact = _refine_inexact(stack, speeds, values, all_shapes)
         ratios = np.where(is_oscillating(eigenvalues),
                           _whirl.whirl_ratios(shapes, _whirl.whirl_forms(model), speeds), 0.0)
         freq, zeta, log_dec = modal_quantities(eigenvalues)

@@ -88,12 +88,14 @@ def _solve_spd(M, f, k, out):
         out[i] = v / M[i, i]
 
 
-def _solve_ordered(M, f, k, out, order, first):
+def _solve_ordered(M, f, k, out, order, first, start, rows):
     """Solve ``M[:k, :k] x = f[:k]`` by Cholesky, the coordinates taken in ``order`` (shape (k,):
     row ``a`` of the factor is coordinate ``order[a]``), each row ``a`` of the factor zero left of
     its column ``first[a]`` (:func:`_solve_order`); only those zeros are skipped: in the order of the
-    coordinates, the sums of :func:`_solve_spd`. The factor overwrites ``M``'s entries
-    ``M[order[a], order[b]]``, ``a >= b`` (M symmetric); ``x`` into ``out[order]``."""
+    coordinates, the sums of :func:`_solve_spd`. The rows below column ``j`` that are not zero there
+    are ``rows[start[j]:start[j + 1]]`` (:func:`_rows_below`), so the loops visit no other row.
+    The factor overwrites ``M``'s entries ``M[order[a], order[b]]``, ``a >= b`` (M symmetric);
+    ``x`` into ``out[order]``."""
     for j in range(k):
         rj, fj = order[j], first[j]
         d = M[rj, rj]
@@ -102,10 +104,9 @@ def _solve_ordered(M, f, k, out, order, first):
             d -= c * c
         d = np.sqrt(d)
         M[rj, rj] = d
-        for i in range(j + 1, k):
+        for q in range(start[j], start[j + 1]):
+            i = rows[q]
             fi = first[i]
-            if fi > j:
-                continue
             ri = order[i]
             v = M[ri, rj]
             for p in range(max(fi, fj), j):
@@ -120,10 +121,9 @@ def _solve_ordered(M, f, k, out, order, first):
     for i in range(k - 1, -1, -1):
         ri = order[i]
         v = out[ri]
-        for p in range(i + 1, k):
-            if first[p] <= i:
-                rp = order[p]
-                v -= M[rp, ri] * out[rp]
+        for q in range(start[i], start[i + 1]):
+            rp = order[rows[q]]
+            v -= M[rp, ri] * out[rp]
         out[ri] = v / M[ri, ri]
 
 
@@ -166,6 +166,39 @@ def _solve_order(n, k, nf, slot, ntrans, order, first):
             for cj in range(ncol):
                 if cols[cj] < k and pos[cols[cj]] < first[row]:
                     first[row] = pos[cols[cj]]
+
+
+def _rows_below(first, k):
+    """For each column ``j`` of the factor of :func:`_solve_ordered`, the rows ``i > j`` not zero
+    there (``first[i] <= j``), ascending, as compressed rows.
+
+    Parameters
+    ----------
+    first : ndarray of int, shape (k,)
+        The column where each row of the factor starts (:func:`_solve_order`).
+    k : int
+        The number of coordinates solved for.
+
+    Returns
+    -------
+    start : ndarray of int, shape (k + 1,)
+        Column ``j``'s rows are ``rows[start[j]:start[j + 1]]``.
+    rows : ndarray of int, shape (start[k],)
+        The rows, column by column.
+    """
+    start = np.zeros(k + 1, dtype=np.int64)
+    for i in range(k):
+        for j in range(first[i], i):
+            start[j + 1] += 1
+    for j in range(k):
+        start[j + 1] += start[j]
+    rows = np.empty(start[k], dtype=np.int64)
+    fill = start[:k].copy()
+    for i in range(k):
+        for j in range(first[i], i):
+            rows[fill[j]] = i
+            fill[j] += 1
+    return start, rows
 
 
 def _interpolate(speeds, count, K, C, own, Kout, Cout):
@@ -618,7 +651,8 @@ def _solve_mass(M, f, k, out, nf, slot, ntrans):
         return
     order, first = np.empty(k, dtype=np.int64), np.empty(k, dtype=np.int64)
     _solve_order(n, k, nf, slot, ntrans, order, first)
-    _solve_ordered(M, f, k, out, order, first)
+    start, rows = _rows_below(first, k)
+    _solve_ordered(M, f, k, out, order, first, start, rows)
 
 
 def _solve_motion(M, f, t, mode, accel, t_start, t_stop, qdd, nf, slot, ntrans):
@@ -872,7 +906,7 @@ def pack(system, mode, accel, t_start, t_stop):
 
 
 FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_solve_ordered",
-             "_solve_order", "_solve_mass", "_interpolate", "_frame", "_relative", "_bearing_stretch",
+             "_solve_order", "_rows_below", "_solve_mass", "_interpolate", "_frame", "_relative", "_bearing_stretch",
              "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now",
              "assemble_into", "_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
              "_add_bearing_forces", "_suspension_energy", "_center_of_mass", "assemble", "_solve_motion", "rhs",

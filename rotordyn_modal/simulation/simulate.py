@@ -278,8 +278,7 @@ def _fewest_steps(model, speed, duration, impulse, form=None) -> float:
     :func:`_form_once`."""
     if impulse is None:
         return 0.0
-    import scipy.linalg
-
+    from ..analysis import _eigensolve
     from ..assembly import _select, excitation_columns
 
     _select(model.excitations, [impulse], "excitation")      # an unknown name: the line of the impulse's own check
@@ -292,7 +291,7 @@ def _fewest_steps(model, speed, duration, impulse, form=None) -> float:
         n = form.n_dof
         state = np.zeros(form.n_states)
         state[n:2 * n] = form.mass_inverse @ excitation_columns(model, [impulse])[:, 0]
-        roots, shapes = scipy.linalg.eig(form.at(float(speed)))
+        roots, shapes = _eigensolve.eig(form.at(float(speed)))   # one BLAS thread, the GIL released
         shares = np.abs(np.linalg.solve(shapes, state)) * np.abs(shapes).max(axis=0)
     except Exception:   # noqa: BLE001 - no bound from the modes: the estimate rests on the output times
         return 0.0

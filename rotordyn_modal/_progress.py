@@ -45,6 +45,10 @@ _JOIN_SECONDS = 5.0
 #: seconds of work a :func:`phase` waits before its line is shown (shorter work shows nothing)
 PHASE_DELAY = 2.0
 
+#: what a long single solve's notice says of its progress (``modes``, ``frf``): no steps to count,
+#: but the clock of its line (:func:`phase`) runs through it on a terminal
+ONE_CALL_NOTE = "one LAPACK call: on a terminal a clock shows it running"
+
 #: rows tqdm assumes where the terminal's height is not known
 _UNKNOWN_ROWS = 20
 #: the shortest delay of a phase's line, however long the terminal has been silent before it, as a

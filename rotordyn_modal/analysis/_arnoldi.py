@@ -66,7 +66,7 @@ def takes(basis: int, n: int) -> bool:
     return n >= MIN_DOF and basis > SHARE * n
 
 
-def lowest(pencils, count: int, refine, distinct, progress: bool = False):
+def lowest(pencils, count: int, refine, distinct, progress: bool | str = False):
     """The ``count + 1`` lowest oscillating roots of every speed of ``pencils``, counted complete
     (:func:`count_below`) and refined on the full pencil.
 
@@ -82,8 +82,9 @@ def lowest(pencils, count: int, refine, distinct, progress: bool = False):
         (:func:`._lowest_newton._refined`).
     distinct : callable
         ``distinct(roots (S, k), shapes (S, k, n)) -> (S,)`` the roots are distinct modes (:func:`._lowest._distinct`).
-    progress : bool
-        A progress bar over the speeds.
+    progress : bool or str
+        A progress bar over the speeds; a str names it (default "lowest modes (Arnoldi)"; the
+        mode numbers of ``critical-speeds --lowest N`` name theirs).
 
     Returns
     -------
@@ -102,7 +103,8 @@ def lowest(pencils, count: int, refine, distinct, progress: bool = False):
     if progress:
         from .._progress import tqdm
 
-        speeds = tqdm(speeds, desc="lowest modes (Arnoldi)", unit="speed", leave=False)
+        desc = progress if isinstance(progress, str) else "lowest modes (Arnoldi)"
+        speeds = tqdm(speeds, desc=desc, unit="speed", leave=False)
     reach = np.full((S, want), np.inf)
     for p in speeds:
         found = _counted_roots(parts, p, want)

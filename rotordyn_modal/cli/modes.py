@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 import numpy as np
 
-from .._progress import phase
+from .._progress import ONE_CALL_NOTE, phase
 from ..errors import InputError
 from ..io.outline import read_outline
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
@@ -195,7 +195,8 @@ def _write_pairs(model, measured, speed, result, args):
 
 def _announce_long_solve(model, work, args):
     """Before a long eigen-solution (estimated over :data:`_NOTICE_SECONDS` of CPU time), one
-    line on stderr with its estimate, since LAPACK's single call can show no progress. The
+    line on stderr with its estimate: LAPACK's single call has no steps to count (on a terminal, a
+    clock shows it running). The
     estimate is :func:`..analysis._work.refuse_long_work`'s (``work``, None where it made none),
     which refused the solve before where it exceeds the limit of CPU time."""
     from ..analysis import _cost, _work
@@ -211,7 +212,7 @@ def _announce_long_solve(model, work, args):
         seconds = work.sweep_seconds
     if seconds > _NOTICE_SECONDS:
         print(f"{NAME}: one eigen-solution of {n_states:,} states ({model.dofs.n:,} coordinates) with every root: "
-              f"about {_cost.duration(seconds)} of CPU time (LAPACK shows no progress; {_ADVICE})",
+              f"about {_cost.duration(seconds)} of CPU time ({ONE_CALL_NOTE}; {_ADVICE})",
               file=sys.stderr, flush=True)
 
 

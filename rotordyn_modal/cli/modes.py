@@ -8,6 +8,7 @@ import numpy as np
 from .._progress import ONE_CALL_NOTE, phase
 from ..errors import InputError
 from ..io.outline import read_outline
+from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
                       add_speed_unit, check_extra_output, open_model, save_figure, show_progress, speed_value, use_agg,
                       undamped_zeros, whole_number, write_table)
@@ -121,7 +122,8 @@ def run(args) -> int:
     measured = _measured_modes(args, model)                           # refused before the solve too
     # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours;
     # the estimate is the sweeps' (analysis/_cost.py), modal's solve run with one BLAS thread as theirs
-    work = refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
+    with starting(args, ESTIMATING):
+        work = refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
     _announce_long_solve(model, work, args)
     with phase(show_progress(args), f"{NAME}: eigen-solution and shapes"):   # its clock ticks during LAPACK's solve
         result = modal(model, speed)

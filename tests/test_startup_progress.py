@@ -79,3 +79,27 @@ def test_quiet_start_up_says_nothing(monkeypatch, tmp_path):
     assert main(["stability", str(EXAMPLES / "gear_machine.toml"), "--speeds", "0:3000:3", "--quiet",
                  "--out", str(tmp_path / "o.csv")]) == 0
     assert terminal.getvalue() == ""
+
+
+def test_the_first_line_counts_its_delay_from_the_start_of_the_program(monkeypatch, tmp_path):
+    """Work before the model is read (here the parser, slowed) is part of the silence: the model's
+    line shows about one delay after ``main`` starts, not one delay after the reading starts."""
+    import importlib
+
+    cli_main = importlib.import_module("rotordyn_modal.cli.main")    # the module (the package exports main)
+
+    monkeypatch.setattr(_progress, "TICK_SECONDS", 0.05)
+    monkeypatch.setattr(_progress, "PHASE_DELAY", 0.5)
+    monkeypatch.setattr(_progress, "_silence", dict(_progress._silence))   # this test's own program
+    slow = 2 * _progress.PHASE_DELAY
+    starts, ends = [], []
+    monkeypatch.setattr(cli_main, "build_parser", _slowed(cli_main.build_parser, slow, [], []))
+    monkeypatch.setattr(_common, "load_model", _slowed(_common.load_model, slow, ends, starts))
+    terminal = Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    begun = time.monotonic()
+    assert main(["stability", str(EXAMPLES / "gear_machine.toml"), "--speeds", "0:3000:3", "--out",
+                 str(tmp_path / "o.csv")]) == 0
+    assert "reading and checking the model: [" in terminal.getvalue()
+    first = terminal.times[0] - begun
+    assert first < slow + 0.5 * _progress.PHASE_DELAY, (first, starts[0] - begun)

@@ -120,7 +120,7 @@ def _phase_delay() -> float:
     now = time.monotonic()
     since, ended = _silence["since"], _silence["ended"]
     if ended is None and _silence["program"] is not None:
-        since = _silence["program"]          # the program's first line: silent since it started
+        _silence["since"] = since = _silence["program"]     # the program's first line: silent since it started
     elif since is None or ended is None or now - ended > PHASE_DELAY:
         _silence["since"] = since = now
     return max(PHASE_DELAY - (now - since), _SHORTEST_DELAY * PHASE_DELAY)

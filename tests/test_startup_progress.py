@@ -103,3 +103,21 @@ def test_the_first_line_counts_its_delay_from_the_start_of_the_program(monkeypat
     assert "reading and checking the model: [" in terminal.getvalue()
     first = terminal.times[0] - begun
     assert first < slow + 0.5 * _progress.PHASE_DELAY, (first, starts[0] - begun)
+
+
+def test_phases_after_the_program_s_first_one_keep_counting_from_its_start(monkeypatch):
+    """The start-up's phases, none drawn, then the analysis' own line: that line shows about one
+    delay after the program started (``frf`` at 200 rotors showed its line 2 s after its own start,
+    after a silent model reading)."""
+    monkeypatch.setattr(_progress, "TICK_SECONDS", 0.05)
+    monkeypatch.setattr(_progress, "PHASE_DELAY", 0.5)
+    monkeypatch.setattr(_progress, "_silence", dict(_progress._silence))
+    terminal = Terminal()
+    begun = time.monotonic()
+    _progress.program_started()
+    with _progress.phase(True, "reading", file=terminal):
+        time.sleep(0.8 * _progress.PHASE_DELAY)
+    with _progress.phase(True, "work", file=terminal):
+        time.sleep(2 * _progress.PHASE_DELAY)
+    first = terminal.times[0] - begun
+    assert "work: [" in terminal.getvalue() and first < 1.4 * _progress.PHASE_DELAY, (first, terminal.getvalue())

@@ -36,7 +36,7 @@ import threading
 import time
 import weakref
 
-__all__ = ["tqdm", "terminal_defaults", "phase", "TICK_SECONDS", "PHASE_DELAY"]
+__all__ = ["tqdm", "terminal_defaults", "phase", "program_started", "TICK_SECONDS", "PHASE_DELAY"]
 
 #: seconds between two drawings of a bar on a terminal while its step runs
 TICK_SECONDS = 1.0
@@ -45,6 +45,10 @@ _JOIN_SECONDS = 5.0
 #: seconds of work a :func:`phase` waits before its line is shown (shorter work shows nothing)
 PHASE_DELAY = 2.0
 
+#: what a long single solve's notice says of its progress (``modes``, ``frf``): no steps to count,
+#: but the clock of its line (:func:`phase`) runs through it on a terminal
+ONE_CALL_NOTE = "one LAPACK call: on a terminal a clock shows it running"
+
 #: rows tqdm assumes where the terminal's height is not known
 _UNKNOWN_ROWS = 20
 #: the shortest delay of a phase's line, however long the terminal has been silent before it, as a
@@ -52,8 +56,8 @@ _UNKNOWN_ROWS = 20
 _SHORTEST_DELAY = 0.125
 #: monotonic times [s]: ``since``, the start of the terminal's silence (the last drawing or clearing
 #: by a bar of this module, or the start of the work that followed it); ``ended``, when the last bar
-#: or phase ended (None: none yet)
-_silence = {"since": None, "ended": None}
+#: or phase ended (None: none yet); ``program``, when the command line started (:func:`program_started`)
+_silence = {"since": None, "ended": None, "program": None}
 
 
 def terminal_defaults(stream=None) -> dict:
@@ -115,9 +119,18 @@ def _phase_delay() -> float:
     silence)."""
     now = time.monotonic()
     since, ended = _silence["since"], _silence["ended"]
-    if since is None or ended is None or now - ended > PHASE_DELAY:
+    if ended is None and _silence["program"] is not None:
+        _silence["since"] = since = _silence["program"]     # the program's first line: silent since it started
+    elif since is None or ended is None or now - ended > PHASE_DELAY:
         _silence["since"] = since = now
     return max(PHASE_DELAY - (now - since), _SHORTEST_DELAY * PHASE_DELAY)
+
+
+def program_started():
+    """Mark the start of the program (the command line's ``main``): until a bar or phase has ended,
+    the terminal has been silent since then, and the first phase (reading the model, after the
+    imports and the parsing) is shown :data:`PHASE_DELAY` after the start, not after its own."""
+    _silence.update(since=None, ended=None, program=time.monotonic())
 
 
 def _drawn():

@@ -648,7 +648,7 @@ def open_model(args):
     import warnings
 
     check_output_options(args)
-    with warnings.catch_warnings(record=True) as held:
+    with warnings.catch_warnings(record=True) as held, starting(args, "reading and checking the model"):
         warnings.simplefilter("always")
         model = load_model(args.model, units=getattr(args, "units", None) or "si")   # its warnings' unit system
     if held and _mass_refused(model):
@@ -722,7 +722,22 @@ def check_ending(path, endings, option: str, stdout: bool = True):
 
 
 def show_progress(args) -> bool:
-    return not args.quiet and sys.stderr.isatty()
+    return not getattr(args, "quiet", False) and sys.stderr.isatty()
+
+
+#: the start-up line of the estimate of the CPU time (a timed eigen-solution, the expected crossings)
+ESTIMATING = "estimating the work"
+
+
+def starting(args, what: str):
+    """A context for start-up work without steps to count (reading and checking the model, the
+    estimate of the CPU time): on a terminal, without ``--quiet``, one line ``what: [elapsed]``
+    once the silence has lasted :data:`.._progress.PHASE_DELAY` (the phases one after another
+    count it from the first: a 500-rotor model was read, checked and estimated for 17 s before
+    anything showed)."""
+    from .._progress import phase
+
+    return phase(show_progress(args), what)
 
 
 def check_extra_output(args, path, option: str, figure: bool = False):

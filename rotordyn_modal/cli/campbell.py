@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
                       save_figure, show_progress, speeds_option, speeds_text, use_agg,
@@ -91,8 +92,9 @@ def run(args) -> int:
     lowest, limit = lowest_option(args.lowest, model), max_frequency_option(args.max_frequency)
     if lowest is None and limit is None:
         # without critical speeds, what is left to advise is the lowest modes and fewer speeds
-        refuse_long_work(model, speeds, orders, critical=not args.no_critical, memory=True,
-                         advice=NO_CRITICAL_ADVICE if args.no_critical else LONG_ADVICE)
+        with starting(args, ESTIMATING):
+            refuse_long_work(model, speeds, orders, critical=not args.no_critical, memory=True,
+                             advice=NO_CRITICAL_ADVICE if args.no_critical else LONG_ADVICE)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), critical=not args.no_critical,
                       modes=lowest, max_frequency=limit)
     empty = (f"no oscillating modes {speeds_text(args)}: {result.eigenvalues.shape[1]} roots at each speed, all "

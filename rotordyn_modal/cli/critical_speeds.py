@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
                       save_figure, show_progress, speeds_option, speeds_text, use_agg,
@@ -57,9 +58,10 @@ def run(args) -> int:
     modes, limit = lowest_option(args.lowest, model), max_frequency_option(args.max_frequency)
     speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
     if modes is None and limit is None:
-        refuse_long_work(model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "
-                         "N, --max-frequency HZ), fewer excitation orders (--orders) or fewer speeds (--speeds)",
-                         memory=True)
+        with starting(args, ESTIMATING):
+            refuse_long_work(model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "
+                             "N, --max-frequency HZ), fewer excitation orders (--orders) or fewer speeds (--speeds)",
+                             memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), modes=modes, max_frequency=limit)
     # the table's mode_at_speed: the number 'modes --speed' gives each crossing's mode there
     write_table(undamped_zeros(result.critical.to_dataframe(), model), args,

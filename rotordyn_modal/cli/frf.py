@@ -8,7 +8,7 @@ import sys
 import numpy as np
 
 from ..analysis.spectra import QUANTITY_OF_RESPONSE
-from .._progress import phase
+from .._progress import ONE_CALL_NOTE, phase
 from ..errors import InputError
 from ..units import FRF_OUTPUT_KINDS, ratio_scale
 from ._common import (IN_SPEED_UNIT, NAME_LIST_HELP, add_alias, add_input_file, add_model_argument, add_outputs,
@@ -144,8 +144,8 @@ _NOTICE_SECONDS = 20.0
 def _announce_long_solve(model, args):
     """Before the modal superposition's eigen-solution of a large model (estimated over
     :data:`_NOTICE_SECONDS` of CPU time), one line on stderr with its estimate, as ``modes``
-    gives: LAPACK's single call shows no progress (500 geared rotors, 2,006 coordinates: about
-    4 min of wall time on a shared machine without a word)."""
+    gives: LAPACK's single call has no steps to count (500 geared rotors, 2,006 coordinates: about
+    4 min of wall time on a shared machine; on a terminal the clock of ``frf``'s line runs)."""
     from ..analysis import _cost, _work
     from ..analysis.frf import choose_engine
 
@@ -157,7 +157,7 @@ def _announce_long_solve(model, args):
     seconds = _work.eig_seconds(n_states)
     if seconds > _NOTICE_SECONDS:
         print(f"{NAME}: one eigen-solution of {n_states:,} states ({model.dofs.n:,} coordinates) for the modal "
-              f"superposition: about {_cost.duration(seconds)} of CPU time (LAPACK shows no progress)",
+              f"superposition: about {_cost.duration(seconds)} of CPU time ({ONE_CALL_NOTE})",
               file=sys.stderr, flush=True)
 
 

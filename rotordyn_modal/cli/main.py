@@ -84,6 +84,9 @@ def main(argv=None) -> int:
     from ._resources import report_peak_memory, verbose_log
     from ._units import resolve_units
 
+    from .._progress import program_started
+
+    program_started()             # a start-up line (reading the model) counts its delay from here
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     args = parser.parse_args(join_negative_values(argv, VALUE_OPTIONS))

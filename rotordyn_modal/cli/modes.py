@@ -5,9 +5,10 @@ from __future__ import annotations
 import sys
 import numpy as np
 
-from .._progress import phase
+from .._progress import ONE_CALL_NOTE, phase
 from ..errors import InputError
 from ..io.outline import read_outline
+from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
                       add_speed_unit, check_extra_output, open_model, save_figure, show_progress, speed_value, use_agg,
                       undamped_zeros, whole_number, write_table)
@@ -121,7 +122,8 @@ def run(args) -> int:
     measured = _measured_modes(args, model)                           # refused before the solve too
     # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours;
     # the estimate is the sweeps' (analysis/_cost.py), modal's solve run with one BLAS thread as theirs
-    work = refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
+    with starting(args, ESTIMATING):
+        work = refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
     _announce_long_solve(model, work, args)
     with phase(show_progress(args), f"{NAME}: eigen-solution and shapes"):   # its clock ticks during LAPACK's solve
         result = modal(model, speed)
@@ -195,7 +197,8 @@ def _write_pairs(model, measured, speed, result, args):
 
 def _announce_long_solve(model, work, args):
     """Before a long eigen-solution (estimated over :data:`_NOTICE_SECONDS` of CPU time), one
-    line on stderr with its estimate, since LAPACK's single call can show no progress. The
+    line on stderr with its estimate: LAPACK's single call has no steps to count (on a terminal, a
+    clock shows it running). The
     estimate is :func:`..analysis._work.refuse_long_work`'s (``work``, None where it made none),
     which refused the solve before where it exceeds the limit of CPU time."""
     from ..analysis import _cost, _work
@@ -211,7 +214,7 @@ def _announce_long_solve(model, work, args):
         seconds = work.sweep_seconds
     if seconds > _NOTICE_SECONDS:
         print(f"{NAME}: one eigen-solution of {n_states:,} states ({model.dofs.n:,} coordinates) with every root: "
-              f"about {_cost.duration(seconds)} of CPU time (LAPACK shows no progress; {_ADVICE})",
+              f"about {_cost.duration(seconds)} of CPU time ({ONE_CALL_NOTE}; {_ADVICE})",
               file=sys.stderr, flush=True)
 
 

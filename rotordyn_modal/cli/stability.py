@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
+from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
                       parse_range, save_figure, show_progress, speeds_option, speeds_text,
@@ -101,8 +102,9 @@ def run(args) -> int:
         # the sweep's shapes (as campbell --no-critical's, a map's one value at a time) checked
         # against the memory at hand first: 2,006 coordinates at 11 speeds under 2.4 GiB ran 2 min
         # and died in MemoryError (exit 1)
-        refuse_long_work(model, speeds, critical=False, solutions=count * len(speeds), advice=fewer, memory=True,
-                         what="a stability sweep")
+        with starting(args, ESTIMATING):
+            refuse_long_work(model, speeds, critical=False, solutions=count * len(speeds), advice=fewer, memory=True,
+                             what="a stability sweep")
     result = stability(model, speeds, vary=args.vary, values=values, scale=scale, progress=show_progress(args),
                        modes=lowest, max_frequency=limit)
     empty = None if limit is None else f"no mode below {limit:g} Hz {speeds_text(args)}"

@@ -280,12 +280,17 @@ class _StiffnessTerms:
         return Z
 
 
-def dof_response(model, speed: float, omega, forces) -> np.ndarray:
+def dof_response(model, speed: float, omega, forces, terms=None) -> np.ndarray:
     """Complex amplitude of ``q`` under harmonic generalized forces (direct solve).
 
     The systems are built and solved in parts of a few MB (``_SOLVE_PART_BYTES``: bounded
     memory, and each part still in the cache while it is solved); each system is solved on
-    its own, so the parts do not change the result.
+    its own, so the parts do not change the result. The dense solves run on one BLAS thread
+    (:func:`._batches.one_blas_thread`, as every dense eigen-solution): on a machine whose cores
+    are shared, OpenBLAS's own threads wait for a core and burn CPU at every speed (measured at
+    load 11-15 on 2 cores: 16-48 times one thread's CPU at 246 coordinates, 35 times at 126; no
+    difference at 86, where the numbers are bit for bit the same; at 126 and 246 they differ from
+    the threaded solve's at round-off, 5e-16 of the largest amplitude).
 
     Parameters
     ----------
@@ -294,6 +299,10 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     omega : array_like, shape (n_freq,) [rad/s]
     forces : array_like, shape (n_dof, k) or (n_freq, n_dof, k)
         Generalized forces [N, N m].
+    terms : _StiffnessTerms, optional
+        The model's constant matrices, assembled once by a caller that calls many times
+        (:func:`stiffness_terms`; the unbalance peaks' refinement): the same numbers as
+        assembling them here.
 
     Returns
     -------
@@ -310,7 +319,7 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
         such frequency and speed.
     """
     try:
-        return _dof_response(model, speed, omega, forces)
+        return _dof_response(model, speed, omega, forces, terms)
     except (np.linalg.LinAlgError, RuntimeError):     # RuntimeError: SuperLU's "exactly singular"
         from ..linear_system import speed_linear_form
 
@@ -336,12 +345,19 @@ def _singular(model, speed, omega) -> InputError:
                       "frequencies")
 
 
-def _dof_response(model, speed, omega, forces) -> np.ndarray:
+def stiffness_terms(model) -> "_StiffnessTerms":
+    """The parts of ``Z(w)`` that do not depend on frequency, as :func:`dof_response` assembles
+    them for ``model`` (sparse above ``SPARSE_FRF_DOF`` coordinates): made once by a caller that
+    calls :func:`dof_response` many times on one model (its ``terms``)."""
+    return _StiffnessTerms(model, sparse=model.dofs.n > SPARSE_FRF_DOF)
+
+
+def _dof_response(model, speed, omega, forces, terms=None) -> np.ndarray:
     """:func:`dof_response` without the mass matrix's check."""
     w = np.atleast_1d(np.asarray(omega, dtype=float))
     speeds = _broadcast(speed, w.shape)
     n = model.dofs.n
-    terms = _StiffnessTerms(model, sparse=n > SPARSE_FRF_DOF)
+    terms = stiffness_terms(model) if terms is None else terms
     rhs = np.asarray(forces, dtype=complex)
     if rhs.shape != (len(w),) + rhs.shape[-2:]:
         rhs = np.broadcast_to(rhs, (len(w),) + rhs.shape[-2:])
@@ -349,14 +365,15 @@ def _dof_response(model, speed, omega, forces) -> np.ndarray:
         return _sparse_response(terms, speeds, w, rhs)
     # per system: Z, LAPACK's copy and the temporaries of its right-hand side
     parts = _batches.chunk_slices(len(w), 48 * n * n, budget=_SOLVE_PART_BYTES)
-    if len(parts) == 1:
-        # the solution made after Z: Z's memory, freed below it, serves the caller's next arrays
-        # (as the top of the heap it would be handed back to the system and faulted in again)
-        return np.linalg.solve(terms.at(speeds, w), rhs)
-    out = np.empty(rhs.shape, dtype=complex)
-    for part in parts:
-        out[part] = np.linalg.solve(terms.at(speeds[part], w[part]), rhs[part])
-    return out
+    with _batches.one_blas_thread(72 * n * n):          # as the dense eigen-solutions
+        if len(parts) == 1:
+            # the solution made after Z: Z's memory, freed below it, serves the caller's next arrays
+            # (as the top of the heap it would be handed back to the system and faulted in again)
+            return np.linalg.solve(terms.at(speeds, w), rhs)
+        out = np.empty(rhs.shape, dtype=complex)
+        for part in parts:
+            out[part] = np.linalg.solve(terms.at(speeds[part], w[part]), rhs[part])
+        return out
 
 
 def _sparse_response(terms, speeds, w, rhs) -> np.ndarray:

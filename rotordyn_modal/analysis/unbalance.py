@@ -744,16 +744,22 @@ def _own_source_curve(model, outputs, quantity):
     """``curve(s, o, j)`` of :func:`.unbalance_peaks.cut_maxima`: the response of output ``o[k]``
     to source ``j[k]`` at speed ``s[k]`` [rad/s], shape (K,), complex, each speed solved for its
     own source only, once a distinct speed (:func:`_sensor_response`'s numbers, one source at a
-    time)."""
+    time). The model's constant matrices are assembled at the first call and kept for the
+    others (the search calls about 40 times a case)."""
+    from .frf import stiffness_terms
     from .unbalance_peaks import per_source
 
     shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
     motions = model.dofs.motions([(r.name, False) for r in model.rotors])
     rows = sensor_rows(model, outputs, motions)
+    kept = []                                               # the model's stiffness terms, once made
 
     def solve(at, each):
+        if not kept:
+            kept.append(stiffness_terms(model))
         sources, w, rotor_forces = unbalance_forces(model, at)
-        q = _coordinate_response(model, [sources[each]], rotor_forces[each:each + 1], at, w[each], shifts, motions)
+        q = _coordinate_response(model, [sources[each]], rotor_forces[each:each + 1], at, w[each], shifts, motions,
+                                 terms=kept[0])
         factor = (1j * w[each]) ** _ORDER[quantity] if _ORDER[quantity] else np.ones(at.size, complex)
         return (rows @ q[..., 0].T) * factor
 
@@ -775,12 +781,13 @@ def _clearance_planes(model, q, motions, n_src, n):
     return (rows @ q[..., 0].T).reshape(-1, 2, n_src, n).transpose(0, 2, 3, 1)
 
 
-def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions, solved=None):
+def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions, solved=None, terms=None):
     """Complex amplitudes of the generalized coordinates, shape (n_src N, n_dof, 1), every
     source's unbalance force applied at its rotor's centre of mass (``shifts`` (R, 6, 6) and
     ``motions`` (R, 6, n_dof): each rotor's ``shift_matrix(S, R_j)`` and body motion);
     ``solved`` (n_src N,) bool, optional: only those systems solved, the others' amplitudes zero
-    (each system is solved on its own: the solved ones are bit for bit as without it)."""
+    (each system is solved on its own: the solved ones are bit for bit as without it); ``terms``:
+    the model's stiffness terms, if made already (:func:`.frf.stiffness_terms`)."""
     index = {r.name: k for k, r in enumerate(model.rotors)}
     each = [generalized_force(model, src, None, rotor_forces[j], shifts[index[src]], motions[index[src]])
             if model.rotor(src).flexible is None else
@@ -788,9 +795,9 @@ def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts,
             for j, src in enumerate(sources)]                                  # (n_src, N, n_dof)
     generalized = (np.stack(each) if len(each) > 1 else each[0]).reshape(len(omega), -1)
     if solved is None:
-        return dof_response(model, speed_all, omega, generalized[:, :, None])
+        return dof_response(model, speed_all, omega, generalized[:, :, None], terms)
     q = np.zeros(generalized.shape + (1,), dtype=complex)
-    q[solved] = dof_response(model, speed_all[solved], omega[solved], generalized[solved][:, :, None])
+    q[solved] = dof_response(model, speed_all[solved], omega[solved], generalized[solved][:, :, None], terms)
     return q
 
 

@@ -30,9 +30,9 @@ def _recorded_solves(monkeypatch):
     solved = []
     original = unbalance_module.dof_response
 
-    def recorded(model, speed, omega, forces):
+    def recorded(model, speed, omega, forces, terms=None):
         solved.extend(zip(np.broadcast_to(speed, np.shape(omega)).tolist(), np.asarray(omega).tolist()))
-        return original(model, speed, omega, forces)
+        return original(model, speed, omega, forces, terms)
 
     monkeypatch.setattr(unbalance_module, "dof_response", recorded)
     return solved

@@ -9,7 +9,6 @@ one delay during them.
 
 from __future__ import annotations
 
-import io
 import sys
 import time
 from pathlib import Path
@@ -19,23 +18,9 @@ import pytest
 from rotordyn_modal import _progress
 from rotordyn_modal.analysis import _work
 from rotordyn_modal.cli import _common, main
+from test_progress_solve_ticks import Terminal   # a stream that is a terminal, noting its writes' times
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-
-
-class Terminal(io.StringIO):
-    """A stream that says it is a terminal, noting when each write came."""
-
-    def __init__(self):
-        super().__init__()
-        self.times = []
-
-    def isatty(self):
-        return True
-
-    def write(self, text):
-        self.times.append(time.monotonic())
-        return super().write(text)
 
 
 def _slowed(function, seconds, ends, starts):

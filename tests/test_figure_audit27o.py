@@ -156,28 +156,10 @@ def _two_rotor_run_up(duration=10.0, f0=2.0, f1=20.0, rate=200.0, ratio=1.25, sm
     ``ratio`` times as fast with 1000 times the first's: ramped from ``f0`` to ``f1`` [Hz] over
     ``duration`` [s] from rest, as a run-up record (the first rotor's 1X track is under the
     second's leakage at most speeds: its phase is not drawn, a legend note says so)."""
-    from types import SimpleNamespace
+    from test_runup_passage27 import _swept_mode
 
-    from scipy.integrate import solve_ivp
-
-    wn, zeta = 2 * np.pi * 6.0, 0.03
-    sweep = (f1 - f0) / duration
-
-    def angle(t):
-        return 2 * np.pi * (f0 * t + 0.5 * sweep * t * t)
-
-    def speed(t):
-        return 2 * np.pi * (f0 + sweep * t)
-
-    def rhs(t, y):
-        force = small * speed(t) ** 2 * np.cos(angle(t)) + (ratio * speed(t)) ** 2 * np.cos(ratio * angle(t))
-        return [y[1], force - 2 * zeta * wn * y[1] - wn * wn * y[0]]
-
-    t = np.arange(0.0, duration, 1.0 / rate)
-    x = solve_ivp(rhs, (0.0, t[-1]), [0.0, 0.0], t_eval=t, rtol=1e-9, atol=1e-12, method="DOP853").y[0]
-    return SimpleNamespace(time=t, rotor_angles=np.column_stack([angle(t), ratio * angle(t)]),
-                           speed_ratios=np.array([1.0, ratio]), rotor_names=["motor", "pump"],
-                           drive_speed=speed(t), sensor=lambda name: x, sensor_names=["s"], model_name="two rotors")
+    return _swept_mode(duration, f0, f1, rate, rotors=(("motor", 1.0, small), ("pump", ratio, 1.0)),
+                       name="two rotors")
 
 
 def test_the_run_up_legend_notes_leave_the_panels_their_width():

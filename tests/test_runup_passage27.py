@@ -33,12 +33,14 @@ F_N, ZETA = 6.0, 0.03                  # the mode [Hz] and its damping ratio
 F_D = F_N * np.sqrt(1 - ZETA ** 2)
 
 
-def _swept_mode(duration, f0=2.0, f1=20.0, rate=200.0):
-    """One mode (unit mass, ``F_N``, ``ZETA``) pushed by an unbalance ``Omega^2 cos(phi)``, its
-    speed ramped linearly from ``f0`` to ``f1`` [Hz] over ``duration`` [s] from rest; sampled at
-    ``rate`` [Hz], as a run-up record of one rotor."""
+def _swept_mode(duration, f0=2.0, f1=20.0, rate=200.0, rotors=(("r", 1.0, 1.0),), name="one mode"):
+    """One mode (unit mass, ``F_N``, ``ZETA``) pushed by the unbalance of each of ``rotors``
+    ``(name, speed ratio r, weight w)``, ``w (r Omega)^2 cos(r phi)``, the reference speed ramped
+    linearly from ``f0`` to ``f1`` [Hz] over ``duration`` [s] from rest; sampled at ``rate`` [Hz],
+    as a run-up record (default: one rotor, ``Omega^2 cos(phi)``)."""
     wn = 2 * np.pi * F_N
     sweep = (f1 - f0) / duration
+    ratios = np.array([r for _, r, _ in rotors])
 
     def angle(t):
         return 2 * np.pi * (f0 * t + 0.5 * sweep * t * t)
@@ -47,12 +49,14 @@ def _swept_mode(duration, f0=2.0, f1=20.0, rate=200.0):
         return 2 * np.pi * (f0 + sweep * t)
 
     def rhs(t, y):
-        return [y[1], speed(t) ** 2 * np.cos(angle(t)) - 2 * ZETA * wn * y[1] - wn * wn * y[0]]
+        force = sum(w * (r * speed(t)) ** 2 * np.cos(r * angle(t)) for _, r, w in rotors)
+        return [y[1], force - 2 * ZETA * wn * y[1] - wn * wn * y[0]]
 
     t = np.arange(0.0, duration, 1.0 / rate)
     x = solve_ivp(rhs, (0.0, t[-1]), [0.0, 0.0], t_eval=t, rtol=1e-9, atol=1e-12, method="DOP853").y[0]
-    return SimpleNamespace(time=t, rotor_angles=angle(t)[:, None], speed_ratios=np.array([1.0]), rotor_names=["r"],
-                           drive_speed=speed(t), sensor=lambda name: x, sensor_names=["s"], model_name="one mode")
+    return SimpleNamespace(time=t, rotor_angles=np.outer(angle(t), ratios), speed_ratios=ratios,
+                           rotor_names=[n for n, _, _ in rotors], drive_speed=speed(t), sensor=lambda _: x,
+                           sensor_names=["s"], model_name=name)
 
 
 def _steady(speeds):

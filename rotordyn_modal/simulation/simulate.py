@@ -792,16 +792,11 @@ def _form_once(model):
     on its first call only: one simulation's checks (the rate's and the steps' bounds and their
     exact values) share it (2,006 coordinates: its assembly and mass factor, about 4 s, had been
     made up to four times). A build that raises is tried again on the next call, as before."""
+    import functools
+
     from ..linear_system import speed_linear_form
 
-    built = []
-
-    def form():
-        if not built:
-            built.append(speed_linear_form(model))
-        return built[0]
-
-    return form
+    return functools.cache(functools.partial(speed_linear_form, model))   # an exception is not cached
 
 
 def _fastest_spin(model, speed, final_speed) -> float:

@@ -69,8 +69,11 @@ def test_a_name_of_41_characters_but_82_bytes_is_refused(tmp_path):
 
 
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes")
-def test_one_refusal_of_a_pipe_for_both_readers(tmp_path):
-    """io.limits.refuse_unsized is the one check; the readers' messages keep their words."""
+def test_one_refusal_of_a_pipe_for_both_readers(tmp_path, monkeypatch):
+    """io.limits.refuse_unsized is the one check of a device; the readers' messages keep their
+    words. A FIFO is read (tests/test_standard_input27p.py): one nothing writes to is refused
+    after the wait for a writer (io.limits.PIPE_WAIT_S, shortened here)."""
+    from rotordyn_modal.io import limits
     from rotordyn_modal.io.limits import refuse_unsized
 
     fifo = tmp_path / "pipe"
@@ -79,10 +82,17 @@ def test_one_refusal_of_a_pipe_for_both_readers(tmp_path):
         refuse_unsized(fifo, "a thing")
     refuse_unsized(tmp_path, "a thing")                 # a folder: the reader says so
     refuse_unsized(tmp_path / "missing", "a thing")     # missing: the reader says so
-    with pytest.raises(InputError, match=r"pipe: expected a Universal File, not a pipe or device \(its size is "
-                                         r"not known before reading\)"):
+    if os.path.exists("/dev/zero"):
+        with pytest.raises(InputError, match=r"zero: expected a Universal File, not a pipe or device \(its size is "
+                                             r"not known before reading\)"):
+            rdm.read_uff_info("/dev/zero")
+    monkeypatch.setattr(limits, "PIPE_WAIT_S", 0.1)
+    with pytest.raises(InputError, match=r"pipe: a pipe nothing writes to: no byte of the Universal File came"):
         rdm.read_uff_info(fifo)
     pytest.importorskip("nptdms")
-    with pytest.raises(InputError, match=r"pipe: expected a TDMS file, not a pipe or device \(its size is not "
-                                         r"known before reading\)"):
+    if os.path.exists("/dev/zero"):
+        with pytest.raises(InputError, match=r"zero: expected a TDMS file, not a pipe or device \(its size is not "
+                                             r"known before reading\)"):
+            rdm.read_tdms_records("/dev/zero")
+    with pytest.raises(InputError, match=r"pipe: a pipe nothing writes to: no byte of the TDMS file came"):
         rdm.read_tdms_records(fifo)

@@ -9,17 +9,21 @@ CSV, TDMS) are allowed much more. Each limit can be raised by an environment var
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import math
 import os
 import select
 import stat
+import warnings
 from pathlib import Path
 
 from .._limits import environment_number
 from ..errors import InputError
 
 __all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "PIPE_WAIT_S", "check_size", "limit_bytes", "read_limited",
-           "input_path", "refuse_unsized", "refuse_compressed", "unreadable", "is_fifo"]
+           "input_path", "refuse_unsized", "refuse_compressed", "unreadable", "is_fifo", "pipe_copied", "reads_pipes",
+           "named_as"]
 
 #: default limit of model and study files [MB]; environment: ROTORDYN_MODAL_MAX_MODEL_MB
 MODEL_FILE_MB = 10
@@ -248,3 +252,87 @@ def _read_at_most(handle, count: int) -> bytes:
         count -= len(parts[-1])
     parts = [part for part in parts if part]
     return parts[0] if len(parts) == 1 else b"".join(parts)
+
+
+@contextlib.contextmanager
+def pipe_copied(path, ending, kind: str = "measured", what: str = "measured-data file", name: str = "pipe"):
+    """A pipe (``<(cat m.uff)``, ``/dev/stdin`` of a pipe, a FIFO a program writes to) read once,
+    up to its kind's limit (:func:`read_limited`), into a regular file in a temporary folder of its
+    own, removed with the copy at the end: the readers of UFF and TDMS read a file by its name,
+    and seek. The one copy of a pipe shared by every reader (:func:`reads_pipes`,
+    :func:`rotordyn_modal.io.measured.piped_copy`, the command line's ``-``).
+
+    Parameters
+    ----------
+    path : path-like
+        A named pipe (:func:`is_fifo`), or any file :func:`read_limited` reads.
+    ending : str or callable
+        The copy's ending (``'.uff'``), or a function of the first 512 bytes that gives it.
+    kind : {'model', 'measured'}
+        Whose size limit applies.
+    what : str
+        Named in the messages (the limit, a pipe nothing writes to).
+    name : str
+        The copy's name before its ending.
+
+    Yields
+    ------
+    Path
+        The copy.
+
+    Raises
+    ------
+    InputError
+        The pipe holds more than the limit, nothing writes to it, or it is compressed.
+    """
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="rotordyn-modal-pipe-") as folder:
+        data = read_limited(path, kind, what)
+        copy = Path(folder) / (name + (ending(data[:512]) if callable(ending) else ending))
+        copy.write_bytes(data)
+        yield copy
+
+
+@contextlib.contextmanager
+def named_as(copy, path):
+    """Inside it, an :class:`InputError` or a warning that names the file ``copy`` names ``path``
+    instead (the pipe a user typed, not its temporary copy)."""
+    copy, path = str(copy), str(path)
+    held = []
+    try:
+        with warnings.catch_warnings(record=True) as held:
+            warnings.simplefilter("always")
+            try:
+                yield
+            except InputError as error:
+                if copy in str(error):
+                    error.args = (str(error).replace(copy, path),)
+                raise
+    finally:
+        for record in held:   # said again, as the caller's filters take them
+            warnings.warn_explicit(str(record.message).replace(copy, path), record.category, record.filename,
+                                   record.lineno)
+
+
+def reads_pipes(ending: str, what: str):
+    """Decorator of a reader whose first argument names a file it opens by name and seeks in
+    (pyuff, npTDMS): a named pipe given to it is read whole first (:func:`pipe_copied`, the
+    measured-data limit), the reader reads the copy, and its messages name the pipe.
+
+    Parameters
+    ----------
+    ending : str
+        The format's ending (``'.uff'``, ``'.tdms'``), given to the copy.
+    what : str
+        The file expected, named if the pipe cannot be read ('Universal File').
+    """
+    def decorate(reader):
+        @functools.wraps(reader)
+        def read(path, *args, **kwargs):
+            if not is_fifo(path):
+                return reader(path, *args, **kwargs)
+            with pipe_copied(path, ending, what=what) as copy, named_as(copy, path):
+                return reader(copy, *args, **kwargs)
+        return read
+    return decorate

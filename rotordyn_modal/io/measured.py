@@ -24,7 +24,6 @@ direction (signed).
 
 from __future__ import annotations
 
-import contextlib
 import os
 from pathlib import Path
 
@@ -36,8 +35,7 @@ from ..model._table import visible_names
 from .channels import ChannelMap, assemble, default_mapping, read_mapping
 
 __all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap",
-           "check_mapping_used", "is_universal_file", "sniffed_ending", "copy_of_pipe",
-           "piped_copy"]
+           "check_mapping_used", "is_universal_file", "sniffed_ending", "piped_copy"]
 
 _QUANTITIES = ("receptance", "mobility", "accelerance")
 
@@ -105,11 +103,10 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
 def _read_from_pipe(path, model, mapping):
     """:func:`read_measured` of a pipe: its bytes copied into a temporary file
     (:func:`piped_copy`), read, and removed; messages name the pipe."""
-    with piped_copy(path) as copy:
-        try:
-            return read_measured(copy, model, mapping)
-        except InputError as error:
-            raise InputError(str(error).replace(str(copy), str(path))) from None
+    from .limits import named_as
+
+    with piped_copy(path) as copy, named_as(copy, path):
+        return read_measured(copy, model, mapping)
 
 
 def _with_2414(error, path) -> InputError:
@@ -176,56 +173,32 @@ def sniffed_ending(head: bytes) -> str:
 _KNOWN_ENDINGS = (".uff", ".unv", ".uf", ".csv", ".txt", ".tsv", ".tdms")
 
 
-@contextlib.contextmanager
 def piped_copy(path):
-    """:func:`copy_of_pipe` of the pipe ``path`` in a temporary folder of its own, removed (with
-    the copy) at the end.
+    """A pipe's bytes (``<(cat m.uff)``, ``/dev/stdin`` of a pipe, a FIFO a program writes to) read
+    once, up to the measured-data limit, into a temporary file removed at the end
+    (:func:`.limits.pipe_copied`, which the UFF and TDMS readers share): named ``pipe`` and the
+    pipe's ending when it is one of the formats', else the ending its bytes show
+    (:func:`sniffed_ending`).
 
     Parameters
     ----------
     path : path-like
         A named pipe (:func:`.limits.is_fifo`).
 
-    Yields
-    ------
-    Path
-        The copy.
-    """
-    import tempfile
-
-    with tempfile.TemporaryDirectory(prefix="rotordyn-modal-pipe-") as folder:
-        yield copy_of_pipe(path, folder)
-
-
-def copy_of_pipe(path, folder) -> Path:
-    """A pipe's bytes (``<(cat m.uff)``, ``/dev/stdin`` of a pipe, a FIFO a program writes to) read
-    once, up to the measured-data limit, into a regular file in ``folder``: the readers of UFF
-    and TDMS read a file by its name, and seek. The copy is named ``pipe`` and the pipe's ending
-    when it is one of the formats', else the ending its bytes show (:func:`sniffed_ending`).
-
-    Parameters
-    ----------
-    path : path-like
-        A named pipe (``stat.S_ISFIFO``).
-    folder : path-like
-        An existing folder (a temporary one, removed by the caller).
-
     Returns
     -------
-    Path
+    context manager
+        Yielding the copy's :class:`~pathlib.Path`.
 
     Raises
     ------
     InputError
         The pipe holds more than the limit, or nothing writes to it (:func:`.limits.read_limited`).
     """
-    from .limits import read_limited
+    from .limits import pipe_copied
 
-    data = read_limited(path, "measured", "measured-data file")
     ending = Path(path).suffix.lower()
-    copy = Path(folder) / ("pipe" + (ending if ending in _KNOWN_ENDINGS else sniffed_ending(data[:512])))
-    copy.write_bytes(data)
-    return copy
+    return pipe_copied(path, ending if ending in _KNOWN_ENDINGS else sniffed_ending)
 #: endings of a measured FRF table read as CSV (``,``, ``;`` or tab separated: :mod:`.csv_tables`);
 #: test rigs and spreadsheets export tab-separated text as .txt or .tsv
 TABLE_ENDINGS = (".csv", ".txt", ".tsv")

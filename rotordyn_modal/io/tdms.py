@@ -18,6 +18,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model._table import LARGEST, line_break_problem, visible, visible_names
+from .limits import reads_pipes
 from .unit_labels import quantity_of
 
 __all__ = ["read_tdms_records", "SI_UNITS", "declared_units"]
@@ -45,6 +46,7 @@ def _tdms_file(path):
         raise InputError(f"{path}: not a readable TDMS file ({type(error).__name__}: {error})") from None
 
 
+@reads_pipes(".tdms", "TDMS file")
 def read_tdms_records(path, group: str | None = None, channels=None, units=None, speed: float = 0.0):
     """Read one group of a TDMS file as one time record.
 

@@ -34,6 +34,7 @@ import numpy as np
 from ..analysis.spectra import QUANTITY_OF_RESPONSE
 from ..errors import InputError
 from .channels import assemble
+from .limits import reads_pipes
 from .unit_labels import is_none, parse_unit, quantity_of
 
 __all__ = ["read_uff58", "write_uff58", "ORDINATE_TYPES", "read_uff_info", "read_uff_nodes", "NodeTable",
@@ -885,6 +886,7 @@ class UffUnits:
                 f"force={self.force:g}, temperature={self.temperature:g})")
 
 
+@reads_pipes(".uff", "Universal File")
 def read_uff_info(path) -> dict:
     """Header (dataset 151) and units (dataset 164) of a Universal File.
 
@@ -1041,6 +1043,7 @@ def _system(systems, number, node, path):
     return origin, rotation
 
 
+@reads_pipes(".uff", "Universal File")
 def read_uff_time_records(path, mapping=None, speed: float = 0.0, units=None):
     """Time records (dataset 58/58b, function type 1) of a Universal File.
 

@@ -51,6 +51,7 @@ import warnings
 import numpy as np
 
 from ..errors import InputError
+from .limits import reads_pipes
 
 __all__ = ["read_uff_modes"]
 
@@ -68,6 +69,7 @@ _MOTIONS = {0: "unknown", 1: "general", 8: "displacement", 11: "velocity", 12: "
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][-+]?\d+)?")
 
 
+@reads_pipes(".uff", "Universal File")
 def read_uff_modes(path, model, mapping=None):
     """Measured modes (frequency, damping ratio, shape at the sensors) from the dataset 55 sets of
     a Universal File, or from its dataset 2414 sets of mode shapes at nodes.

@@ -316,16 +316,16 @@ def test_a_uff_frequency_axis_in_other_units_reads_in_hz(tmp_path, label, per_hz
 
 
 # ----------------------------------------------------------------------- file options
-@pytest.mark.parametrize("argv, option", [
-    (["check", "-"], "MODEL -"),
-    (["frf", str(GEAR), "--freqs", "2:40:3", "--measured", "-"], "--measured -"),
-    (["modes", str(GEAR), "--shape", "1", "--outline", "-", "--plot", "{tmp}/s.png"], "--outline -"),
-], ids=["model", "measured", "outline"])
-def test_standard_input_as_an_input_file_is_refused_by_its_option(tmp_path, capsys, argv, option):
-    """``-`` read as a file named '-': '-: <file> = '-': expected an existing model file (no such
-    file)'."""
+@pytest.mark.parametrize("argv, options", [
+    (["frf", str(GEAR), "--freqs", "2:40:3", "--measured", "-", "--mapping", "-"], "--measured - and --mapping -"),
+    (["modes", "-", "--shape", "1", "--outline", "-", "--plot", "{tmp}/s.png"], "MODEL - and --outline -"),
+], ids=["measured", "outline"])
+def test_standard_input_as_an_input_file_is_read_by_one_option(tmp_path, capsys, argv, options):
+    """``-`` was read as a file named '-' ('-: <file> = '-': expected an existing model file (no
+    such file)'); it is standard input now (tests/test_standard_input27p.py), which one option
+    may read: two are refused, naming both."""
     assert main([a.replace("{tmp}", str(tmp_path)) for a in argv]) == 2
-    _one_line_error(capsys, f"{option}: expected a file name", "standard input is not read")
+    _one_line_error(capsys, f"{options}: standard input is read once", "name files for the others")
 
 
 def test_a_header_of_control_characters_is_shown_escaped(tmp_path, capsys):

@@ -6,6 +6,7 @@ import argparse
 import contextlib
 import copy
 import math
+import os
 import sys
 
 import numpy as np
@@ -496,20 +497,32 @@ def _given(args, role):
 #: name and seek): a pipe given to them is copied first (:func:`pipes_copied`)
 _COPIED_PIPES = ("measured",)
 
+#: how each input option reads '-', standard input: dest -> (its size limit's kind, what it is,
+#: the copy's ending; None: the ending its bytes show). Read once into a temporary file (a
+#: mapping table is read twice by ``frf``), except the ROSS file, read once as /dev/stdin (its
+#: rotor is named as a pipe's: no file's stem, :func:`rotordyn_modal.io.ross_file.without_name`)
+_STANDARD_INPUTS = {"model": ("model", "model file", ".toml"), "spec": ("model", "study file", ".toml"),
+                    "measured": ("measured", "measured-data file", None),
+                    "mapping": ("model", "mapping table", ".csv"), "outline": ("model", "stator outline", ".csv"),
+                    "ross_file": None}
+#: how messages name '-'
+STANDARD_INPUT = "standard input"
+
 
 @contextlib.contextmanager
 def pipes_copied(args):
     """Each ``--measured`` given a pipe (``<(cat m.uff)``, ``/dev/stdin`` of a pipe, a FIFO a
-    program writes to) read once into a temporary file (:func:`rotordyn_modal.io.measured.piped_copy`:
-    the format its ending or its bytes show), ``args.measured`` then naming it, as models are
-    read from pipes. ``args.shown_names`` maps the copy's name back to the name typed (messages
-    say that one: :func:`shown_as_typed`). The copies are removed at the end."""
+    program writes to), and the input given ``-`` (standard input, :data:`_STANDARD_INPUTS`), read
+    once into a temporary file (:func:`rotordyn_modal.io.limits.pipe_copied`: the format its
+    ending or its bytes show), the option then naming it, as models are read from pipes.
+    ``args.shown_names`` maps the copy's name back to the name typed, or to "standard input"
+    (messages say that one: :func:`shown_as_typed`). The copies are removed at the end."""
     from ..io.limits import is_fifo
 
     piped = []
     for dest, _ in getattr(args, "file_options", {}).get("input", ()):
         path = getattr(args, dest, None)
-        if dest in _COPIED_PIPES and path not in (None, "", "-") and is_fifo(path):   # missing: the reader says so
+        if path == "-" or (dest in _COPIED_PIPES and path not in (None, "") and is_fifo(path)):   # missing: the reader says so
             piped.append((dest, path))
     if not piped:
         yield
@@ -519,10 +532,61 @@ def pipes_copied(args):
     with contextlib.ExitStack() as copies:
         args.shown_names = {}
         for dest, path in piped:
-            duplicate = str(copies.enter_context(piped_copy(path)))
-            args.shown_names[duplicate] = str(path)
+            if path == "-":
+                args.shown_names["/dev/stdin"] = STANDARD_INPUT
+                if _STANDARD_INPUTS[dest] is None:
+                    setattr(args, dest, "/dev/stdin")
+                    continue
+            duplicate = str(copies.enter_context(piped_copy(path) if path != "-" else _standard_input_copy(dest)))
+            args.shown_names[duplicate] = str(path) if path != "-" else STANDARD_INPUT
             setattr(args, dest, duplicate)
         yield
+
+
+def _standard_input_copy(dest):
+    """:func:`rotordyn_modal.io.limits.pipe_copied` of standard input for the option ``dest``
+    (:data:`_STANDARD_INPUTS`): a pipe or a redirected file, within the limit of its kind."""
+    from ..io.limits import pipe_copied
+    from ..io.measured import sniffed_ending
+
+    kind, what, ending = _STANDARD_INPUTS[dest]
+    return pipe_copied("/dev/stdin", ending or sniffed_ending, kind, what, name="stdin")
+
+
+def _standard_inputs(args) -> list[str]:
+    """The options (as typed) given '-', each refused where standard input cannot be read: more
+    than one of them, an option that reads no standard input, standard input closed or a
+    terminal (nothing piped in: the command would wait for typing)."""
+    dashed = [(dest, f"{as_typed(args, option)} -") for dest, option in getattr(args, "file_options", {}).get("input", ())
+              if getattr(args, dest, None) == "-"]
+    if len(dashed) > 1:
+        raise InputError(f"{' and '.join(typed for _, typed in dashed)}: standard input is read once: give '-' to one "
+                         "of them and name files for the others")
+    for dest, typed in dashed:
+        if dest not in _STANDARD_INPUTS:
+            raise InputError(f"{typed}: this option does not read standard input: expected a file name")
+        try:
+            terminal = os.isatty(0)
+            os.fstat(0)
+        except OSError:
+            raise InputError(f"{typed}: standard input is closed: pipe the file in (... < FILE) or name it") from None
+        if terminal:
+            raise InputError(f"{typed}: standard input is a terminal, nothing is piped in: pipe the file in "
+                             "(... < FILE, or cat FILE | ...) or name it")
+    return [typed for _, typed in dashed]
+
+
+def _standard_input_file(args):
+    """``(option, the file)`` when '-' reads a regular file redirected into standard input
+    (``< m.toml``): an output may not name it either (:func:`check_files`)."""
+    import stat
+
+    typed = _standard_inputs(args)
+    try:
+        regular = typed and stat.S_ISREG(os.fstat(0).st_mode)
+    except OSError:
+        regular = False
+    return [(typed[0], os.path.realpath("/dev/stdin"))] if regular else []
 
 
 def shown_as_typed(text: str, args) -> str:
@@ -547,10 +611,7 @@ def check_files(args) -> None:
             option = as_typed(args, option)      # the spelling typed (--orbit-plot for --plot-orbits)
             if getattr(args, dest, None) == "":   # an empty variable in a script: never "not given"
                 raise InputError(f"{option} '': expected a file name")
-            if role == "input" and getattr(args, dest, None) == "-":   # was 'no such file' of a file named '-'
-                raise InputError(f"{option} -: expected a file name ('-' for standard input is not read: name "
-                                 "/dev/stdin, or save it to a file and name that)")
-    inputs, outputs = _given(args, "input"), _given(args, "output")
+    inputs, outputs = _given(args, "input") + _standard_input_file(args), _given(args, "output")
     for option, path in inputs + outputs:
         if "\0" in str(path):
             raise InputError(f"{option} {str(path)!r}: a file name cannot hold a NUL character")
@@ -651,6 +712,7 @@ def open_model(args):
     with warnings.catch_warnings(record=True) as held, starting(args, "reading and checking the model"):
         warnings.simplefilter("always")
         model = load_model(args.model, units=getattr(args, "units", None) or "si")   # its warnings' unit system
+    model.source = shown_as_typed(model.source, args)   # '-': "standard input", not its temporary copy
     if held and _mass_refused(model):
         args.held_warnings = held
     else:

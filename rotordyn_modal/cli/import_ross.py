@@ -52,7 +52,9 @@ def run(args) -> int:
         write_model_file(description, args.out, inputs=[args.ross_file])
     rotor = description["rotors"][0]
     if args.name is None and without_name(args.ross_file):   # was the rotor '63' of /dev/fd/63
-        print(f"{NAME}: {args.ross_file} is a pipe, whose name is no file's: the rotor is named "
+        shown = getattr(args, "shown_names", {}).get(args.ross_file)   # '-': "standard input"
+        source = f"{shown} gives no file's name" if shown else f"{args.ross_file} is a pipe, whose name is no file's"
+        print(f"{NAME}: {source}: the rotor is named "
               f"{DEFAULT_NAME!r} (give --name NAME to name it)", file=sys.stderr)
     if not args.quiet:
         print(f"{args.out}: rotor {rotor['name']!r}, {len(rotor['shaft'])} shaft sections, "

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import sys
@@ -11,7 +12,7 @@ import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
 from ._common import (add_alias, add_allow_long, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
-                      show_progress, use_agg, whole_number)
+                      show_progress, shown_as_typed, use_agg, whole_number)
 from ._resources import add_verbose
 from ._units import ENVIRONMENT, key_kind
 from ..units import to_system, unit_label
@@ -101,6 +102,7 @@ def run(args) -> int:
     _check_options(args)
     model = open_model(args)   # its warnings held when every analysis refuses it: one line
     definition = read_study(args.spec, model)
+    definition = dataclasses.replace(definition, source=shown_as_typed(definition.source, args))   # '-': standard input
     _check_figures(args, definition)
     band = definition.operating_band_rpm if args.band is None else \
         parse_band(args.band, as_typed(args, "--operating-range"), "rpm", low=None, example="2700:3300")

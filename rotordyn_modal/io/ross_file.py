@@ -98,7 +98,8 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
                 for cls in BEARING_CLASSES for key, table in elements.get(cls, [])]
     bearings.sort(key=lambda b: b["axial_position"])
     version = data.get("ross_version", "unknown")
-    origin = f"file {shown_text(Path(source).name)}" if named else "file read from a pipe"
+    origin = (f"file {shown_text(Path(source).name)}" if named else
+              "file read from standard input" if source in ("/dev/stdin", "-") else "file read from a pipe")
     return {"name": f"{rotor_name} (ROSS {version} {origin})", "spin_axis": [0.0, 0.0, 1.0],
             "materials": list(materials.values()), "rotors": [rotor], "bearings": bearings}
 

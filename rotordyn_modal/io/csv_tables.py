@@ -79,7 +79,9 @@ def read_csv_table(data: bytes, path, what: str, text_only: bool = False, skip_b
     body = "".join(lines[start + 1:start + 200])
     decimal = "," if separator != "," and re.search(r'(^|[;\t])\s*"?[-+]?\d+,\d+"?\s*([;\t]|$)', body, re.M) else "."
     with _collector_paused():
-        table = _table(_rows(text, separator, path, what, start, skip_blank_lines), path, what)
+        table = _fast_table(text, separator, start, skip_blank_lines)   # pandas' C parser: a plain table
+        if table is None:       # the csv module reads what it does not, and names what is wrong
+            table = _table(_rows(text, separator, path, what, start, skip_blank_lines), path, what)
     _check_columns_once(header, separator, path)
     lines = table.attrs["lines"]
     table = _without_trailing_empty_rows(table)
@@ -101,6 +103,76 @@ def _collector_paused():
     finally:
         if enabled:
             gc.enable()
+
+
+#: a line of blanks only (the csv module reads it as a cell, pandas' parser as no line)
+_BLANK_LINE = re.compile(r"^[^\S\r\n]+\r?$", re.M)
+
+
+def _fast_table(text: str, separator: str, start: int, skip_blank_lines: bool):
+    """:func:`_table` of :func:`_rows` (the same frame, cell for cell, and ``attrs['lines']``) made
+    by pandas' C parser, 3-5x faster, for a plain table: no quote, no NUL, no line break but
+    ``\n`` and ``\r\n``, the header on the first line with a name in its last cell, no line of
+    blanks, no line longer than the csv module's field limit, no line with more cells than the
+    header. None for any other text: the csv module reads it, and names what is wrong.
+
+    Parameters
+    ----------
+    text : str
+        The table from its header line on.
+    separator : str
+    start : int
+        Lines of the file before ``text``.
+    skip_blank_lines : bool
+
+    Returns
+    -------
+    DataFrame of str or None
+    """
+    import csv
+
+    import numpy as np
+    import pandas as pd
+
+    if '"' in text or "\0" in text or ("\r" in text and text.count("\r") != text.count("\r\n")):
+        return None
+    padded = _has_blanks(text, separator)       # cells to strip (`` 1.0 ``, `` acc-top-z ``)
+    if padded and _BLANK_LINE.search(text):
+        return None
+    physical = text.split("\n")
+    if physical[-1] == "":
+        physical.pop()              # the last line's line break
+    header = physical[0].rstrip("\r").split(separator) if physical else [""]
+    if not header[-1].strip() or max(map(len, physical)) > csv.field_size_limit():
+        return None
+    try:
+        cells = pd.read_csv(io.StringIO(text), sep=separator, header=None, dtype=object, na_filter=False,
+                            skip_blank_lines=skip_blank_lines, quoting=csv.QUOTE_NONE, engine="c")
+    except (ValueError, pd.errors.ParserError):      # a line of more cells than the header
+        return None
+    lines = np.arange(start + 2, start + 1 + len(physical), dtype=np.int64)
+    if skip_blank_lines:
+        lines = lines[np.array([line not in ("", "\r") for line in physical[1:]], dtype=bool)]
+    if cells.shape != (len(lines) + 1, len(header)):
+        return None
+    columns = [cells[k].to_numpy(dtype=object)[1:] for k in cells.columns]
+    table = pd.DataFrame({k: pd.Series([cell.strip() for cell in column] if padded else column, dtype=object)
+                          for k, column in enumerate(columns)})
+    table.columns = [name.strip() or f"Unnamed: {k}" for k, name in enumerate(header)]
+    table.attrs["lines"] = lines
+    return table
+
+
+#: the characters ``str.strip`` removes that ASCII text may hold, but line breaks
+_ASCII_BLANKS = " \t\x0b\x0c\x1c\x1d\x1e\x1f"
+
+
+def _has_blanks(text: str, separator: str) -> bool:
+    """Whether ``text`` holds a character ``str.strip`` removes, other than line breaks and the
+    separator (a tab): memory scans of ASCII text, a regular expression of other text."""
+    if text.isascii():
+        return any(blank in text for blank in _ASCII_BLANKS if blank != separator)
+    return re.search(r"[^\S\r\n\t]" if separator == "\t" else r"[^\S\r\n]", text) is not None
 
 
 def _rows(text: str, separator: str, path, what: str, start: int, skip_blank_lines: bool):
@@ -229,9 +301,12 @@ def numbers(table, name, path, decimal: str = "."):
     import numpy as np
     import pandas as pd
 
-    cells = table[name].astype(str).str.strip()
+    cells = table[name].astype(str)     # stripped by read_csv_table
     text = cells.str.replace(",", ".", regex=False) if decimal == "," else cells
     values = pd.to_numeric(text, errors="coerce").to_numpy(float)
+    if not np.isnan(values).any():
+        return values
+    cells = cells.str.strip()
     bad = np.isnan(values) & ~cells.str.lower().isin(_EMPTY).to_numpy()
     if bad.any():
         row = int(np.argmax(bad))

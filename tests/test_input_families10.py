@@ -184,16 +184,21 @@ def _python(code, timeout=60):
 def test_the_apis_measured_file_readers_refuse_a_device_or_pipe_at_once(tmp_path, reader, device):
     """On main ``rdm.read_uff_info('/dev/zero')`` (and the UFF node and time-record readers) read
     for ever, and ``read_tdms_records`` of a named pipe no program writes to waited for ever; the
-    command line refuses these (``read_measured``), the API now does too, with the CLI's words."""
+    command line refuses these (``read_measured``), the API now does too, with the CLI's words. A
+    FIFO is read as the command line reads it (files27p): one that nothing writes to is refused
+    after the wait for a writer (``io.limits.PIPE_WAIT_S``, shortened here)."""
     import os
 
     path = device
     if device == "fifo":
         path = str(tmp_path / ("record.tdms" if "tdms" in reader else "record.uff"))
         os.mkfifo(path)
-    code = (f"import rotordyn_modal as rdm\ntry:\n    rdm.{reader}({path!r})\nexcept rdm.InputError as e:\n"
-            f"    print('REFUSED', e)\n")
+    code = (f"import rotordyn_modal as rdm\nimport rotordyn_modal.io.limits as limits\nlimits.PIPE_WAIT_S = 0.2\n"
+            f"try:\n    rdm.{reader}({path!r})\nexcept rdm.InputError as e:\n    print('REFUSED', e)\n")
     status, output = _python(code)
+    if device == "fifo":
+        assert status == 0 and output.startswith(f"REFUSED {path}: a pipe nothing writes to: no byte of the "), output
+        return
     assert status == 0 and output.startswith(f"REFUSED {path}: expected a "), output
     assert "not a pipe or device" in output
 

@@ -974,6 +974,7 @@ class NodeTable:
                              "z": self.coordinates[:, 2]})
 
 
+@reads_pipes(".uff", "Universal File")
 def read_uff_nodes(path) -> NodeTable:
     """Nodes of a Universal File (dataset 15 or 2411) in metres and global axes.
 

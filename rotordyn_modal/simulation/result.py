@@ -214,9 +214,11 @@ class SimulationResult:
         x = q[:, :3] if frame else np.zeros((count, 3))
         theta = gamma + psi[:, None] * system.e
         stator = Rotation.from_rotvec(gamma) * Rotation.from_rotvec(psi[:, None] * system.e)
-        kinetic, elastic, weight, torque, omega, wrenches = kn.sample_outputs(
-            np.ascontiguousarray(times, dtype=float), np.ascontiguousarray(states, dtype=float),
-            *system.kernel_arguments(), *extra)
+        from .simulate import sampled_outputs
+
+        kinetic, elastic, weight, torque, omega, wrenches = sampled_outputs(
+            kn, np.ascontiguousarray(times, dtype=float), np.ascontiguousarray(states, dtype=float),
+            system.kernel_arguments() + tuple(extra))
         moves, tilts = _relative_motions(system, q)
         centers = np.empty((count, len(model.rotors), 3))
         for j, b in enumerate(system.rotor_index):

@@ -162,7 +162,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         exact_rate, timed = rate, None
         rate = _Bounded(lambda: exact_rate, None)
     count = samples or _default_samples(rate.value, duration)
-    steps = _Bounded(lambda: _fewest_steps(model, speed, duration, impulse, form),
+    steps = _Bounded(lambda: _fewest_steps(model, speed, duration, impulse, form, progress),
                      _most_steps(model, speed, duration, impulse, form) if large else None)
     _checked_with(lambda: _check_cpu_time(kn, system, extra, duration, rate.value, count, steps.value),
                   rate, steps)                                          # before compiling anything
@@ -270,7 +270,7 @@ def _check_before_eigenvalues(kn, system, extra, duration, spin, samples, speed)
     return _check_cpu_time(kn, system, extra, duration, spin, count, y0=rest)
 
 
-def _fewest_steps(model, speed, duration, impulse, form=None) -> float:
+def _fewest_steps(model, speed, duration, impulse, form=None, progress=False) -> float:
     """A low bound of DOP853's steps over ``duration`` [s]: the fastest mode an impulse through
     ``impulse`` (an excitation's name, or None: no bound, 0) excites, of the linear model at
     ``speed`` [rad/s] (its roots ``lambda_k`` and shapes ``v_k``; the impulse's velocity jump
@@ -279,9 +279,16 @@ def _fewest_steps(model, speed, duration, impulse, form=None) -> float:
     at least: the explicit integrator's stability, whatever the tolerances and the output times.
     0 where the decomposition cannot be made (the estimate then rests on the output times), and
     where no CPU limit is in force (:func:`_check_cpu_time` would not read it). ``form``: see
-    :func:`_form_once`."""
+    :func:`_form_once`.
+
+    Every root and shape of the state matrix (one LAPACK call, :func:`.analysis._eigensolve.eig`,
+    the GIL released: 142 s of CPU at 4,012 states on a loaded machine) is made inside a
+    :func:`~rotordyn_modal._progress.phase` where ``progress``, whose clock runs through it, and
+    announced on stderr first (:data:`STEPS_NOTICE`) from :data:`_ANNOUNCED_DOF` coordinates. It is
+    made only where the check refused the bound :func:`_most_steps` (:class:`_Bounded`)."""
     if impulse is None:
         return 0.0
+    from .._progress import phase
     from ..analysis import _eigensolve
     from ..assembly import _select, excitation_columns
 
@@ -295,8 +302,12 @@ def _fewest_steps(model, speed, duration, impulse, form=None) -> float:
         n = form.n_dof
         state = np.zeros(form.n_states)
         state[n:2 * n] = form.mass_inverse @ excitation_columns(model, [impulse])[:, 0]
-        roots, shapes = _eigensolve.eig(form.at(float(speed)))   # one BLAS thread, the GIL released
-        shares = np.abs(np.linalg.solve(shapes, state)) * np.abs(shapes).max(axis=0)
+        matrix = form.at(float(speed))
+        if n >= _ANNOUNCED_DOF:
+            _say(STEPS_NOTICE.format(form.n_states))
+        with phase(progress, "simulate: the modes the impulse excites, for the CPU estimate"):
+            roots, shapes = _eigensolve.eig(matrix)     # one BLAS thread, the GIL released: the clock runs
+            shares = np.abs(np.linalg.solve(shapes, state)) * np.abs(shapes).max(axis=0)
     except Exception:   # noqa: BLE001 - no bound from the modes: the estimate rests on the output times
         return 0.0
     if not np.all(np.isfinite(shares)) or not shares.max(initial=0.0) > 0.0:
@@ -695,6 +706,42 @@ def _signals_noted():
                 signal.signal(number, handler)
 
 
+#: the output times' derived outputs (:func:`sampled_outputs`) are made in parts of about this many
+#: entries of the mass matrix (n_dof squared each output time): a part of 2,006 coordinates is 4 output
+#: times, of 606 coordinates 45 (about 40 ms of CPU), of an example all of them at once
+_OUTPUT_PART_ENTRIES = 2 ** 24
+
+
+def sampled_outputs(kn, times, states, arguments):
+    """``kn.sample_outputs(times, states, *arguments)`` (:func:`._kernels.sample_outputs`: each output
+    time's own, the same bits), made in parts of :data:`_OUTPUT_PART_ENTRIES`, a signal's Python
+    handler held (:func:`_signals_noted`) during each part and called between two (the command
+    line's raises; where it returns, the rest is made).
+
+    A signal's handler that raised inside the compiled loop (SIGTERM at 150 geared rotors on
+    bearings, 3,000 output times) ended the run with ``SystemError: CPUDispatcher(...) returned a
+    result with an exception set`` (exit 1, where 143 is documented) after the whole loop, 2.5 s of
+    CPU later."""
+    n_dof = states.shape[1] // 2
+    part = max(1, _OUTPUT_PART_ENTRIES // max(n_dof * n_dof, 1))
+    if len(times) <= part:
+        return _heeding_signals(kn.sample_outputs, times, states, *arguments)
+    pieces = [_heeding_signals(kn.sample_outputs, times[i:i + part], states[i:i + part], *arguments)
+              for i in range(0, len(times), part)]
+    return tuple(np.concatenate(outputs) for outputs in zip(*pieces))
+
+
+def _heeding_signals(call, *arguments):
+    """``call(*arguments)`` with the signals noted (:func:`_signals_noted`), the first one noted then
+    handled (its handler called: the command line's raises)."""
+    with _signals_noted() as caught:
+        result = call(*arguments)
+    if caught:
+        signum, frame, handler = caught[0]
+        handler(signum, frame)
+    return result
+
+
 def _integrate_plain(kn, system, extra, y0, times, rtol, atol, bar):
     from scipy.integrate import solve_ivp
 
@@ -829,6 +876,24 @@ _ANNOUNCED_DOF = 1000
 #: the line on stderr before the natural frequencies of a large machine (the number of states)
 EIGENVALUE_NOTICE = ("simulate: the natural frequencies of the {:,} states of the linear model, for the default "
                      "output times (seconds to minutes at this size; --samples spares them)...")
+#: the line on stderr before the modes an impulse excites are made on a large machine (the number of
+#: states; :func:`_fewest_steps`)
+STEPS_NOTICE = ("simulate: the modes of the {:,} states of the linear model that the impulse excites, to count "
+                "the integrator's steps for the CPU estimate (seconds to minutes at this size; one LAPACK call: "
+                "on a terminal a clock shows it running; --allow-long spares them)...")
+
+
+def _say(line):
+    """``line`` on stderr, clearing and redrawing a progress line already drawn there (tqdm's
+    ``write``), so that the two do not share a line."""
+    import sys
+
+    from tqdm import tqdm
+
+    tqdm.write(line, file=sys.stderr)
+    sys.stderr.flush()
+
+
 #: coordinates (half the states) from which the largest natural frequency is first sought among
 #: the largest roots (:func:`_largest_imaginary`) rather than among all of them
 _KRYLOV_DOF = _SMALL_DOF
@@ -841,9 +906,14 @@ def _largest_frequency(matrix, announce=False) -> float:
     """The largest ``|Im lambda|`` [rad/s] of the state ``matrix`` (n, n): among its largest roots
     (:func:`_largest_imaginary`) from :data:`_KRYLOV_DOF` coordinates, else (or where that does not
     settle it) from the dense eigenvalues, on one BLAS thread as every dense eigen-solution
-    (announced on stderr first from :data:`_ANNOUNCED_DOF` coordinates where ``announce``)."""
-    import scipy.linalg
+    (announced on stderr first from :data:`_ANNOUNCED_DOF` coordinates where ``announce``).
 
+    The dense eigenvalues are numpy's (LAPACK's ``dgeev`` without vectors), which release the GIL,
+    so that the clock of the phase around them (:func:`_fastest_rate`) runs: scipy's ``eigvals``,
+    the same routine, held it (a thread ticked 1 to 2 times in a 1.4 s solve of 1,200 states, 28
+    times with numpy's), and gave the same bits (every example's state matrix, and random ones of
+    10 to 1,200 rows, compared with ``np.array_equal``). :func:`.analysis._eigensolve.eig` releases it
+    too, but makes the eigenvectors: 1.6 times the CPU time."""
     from ..analysis import _batches
 
     states = matrix.shape[-1]
@@ -853,11 +923,9 @@ def _largest_frequency(matrix, announce=False) -> float:
         except _NoBound:
             pass
     if announce and states >= 2 * _ANNOUNCED_DOF:
-        import sys
-
-        print(EIGENVALUE_NOTICE.format(states), file=sys.stderr, flush=True)
+        _say(EIGENVALUE_NOTICE.format(states))          # inside the phase, whose line may be drawn
     with _batches.one_blas_thread(24 * states ** 2):
-        values = scipy.linalg.eigvals(matrix)
+        values = np.linalg.eigvals(matrix)              # the GIL released: see above
     return float(np.max(np.abs(values.imag), initial=0.0))
 
 

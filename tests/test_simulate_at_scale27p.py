@@ -188,3 +188,30 @@ def test_the_modes_an_impulse_excites_are_a_phase_of_the_progress_and_announced(
     assert (True, "simulate: the modes the impulse excites, for the CPU estimate") in shown
     err = capsys.readouterr().err
     assert err.count(simulate_module.STEPS_NOTICE.format(2 * model.dofs.n)) == 1
+
+
+def test_where_arpack_fails_the_bounds_come_from_the_balanced_norm_not_a_dense_solve(monkeypatch):
+    """ARPACK not converging: the bounds of the impulse's steps and of the natural frequencies (main:
+    None, so every root and shape was made at once: 142 s at 4,012 states) are the norm of the
+    balanced state matrix, an upper bound of every ``|lambda|``: checked against the dense roots."""
+    import scipy.sparse.linalg
+
+    from rotordyn_modal.analysis import _eigensolve
+    from rotordyn_modal.linear_system import speed_linear_form
+
+    model = rdm.load_model(ROOT / "examples" / "motor_pump_on_mounts.toml")
+    roots = np.linalg.eigvals(speed_linear_form(model).at(157.0))
+    rest = np.linalg.eigvals(speed_linear_form(model).at(0.0))
+
+    def fails(*args, **kwargs):
+        raise scipy.sparse.linalg.ArpackNoConvergence("no convergence", np.zeros(0), np.zeros((0, 0)))
+
+    solved = []
+    monkeypatch.setattr(scipy.sparse.linalg, "eigs", fails)
+    monkeypatch.setattr(_eigensolve, "eig", lambda *args: solved.append(1))
+    steps = simulate_module._most_steps(model, 157.0, 0.5, "hub-tap-y")
+    rate = simulate_module._most_rate(model, 157.0, None)
+    assert solved == []
+    assert np.isfinite(steps) and steps >= 0.5 * np.abs(roots).max() / simulate_module._STEP_REACH
+    assert np.isfinite(rate) and rate >= np.abs(rest.imag).max()
+    assert steps <= 3 * 0.5 * np.abs(roots).max() / simulate_module._STEP_REACH   # a bound of use

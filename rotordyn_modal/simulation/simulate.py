@@ -183,7 +183,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     if drive == "free":
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
                            "with an ideal drive, or extend the table")
-    return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive)
+    outputs = sampled_outputs(kn, times, states, system.kernel_arguments() + extra)    # signals heeded
+    return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive, outputs=outputs)
 
 
 def _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size, samples,
@@ -738,6 +739,7 @@ def sampled_outputs(kn, times, states, arguments):
     bearings, 3,000 output times) ended the run with ``SystemError: CPUDispatcher(...) returned a
     result with an exception set`` (exit 1, where 143 is documented) after the whole loop, 2.5 s of
     CPU later."""
+    times, states = np.ascontiguousarray(times, dtype=float), np.ascontiguousarray(states, dtype=float)
     n_dof = states.shape[1] // 2
     part = max(1, _OUTPUT_PART_ENTRIES // max(n_dof * n_dof, 1))
     if len(times) <= part:

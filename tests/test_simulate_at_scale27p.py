@@ -140,7 +140,7 @@ def test_the_derived_outputs_heed_a_raising_handler_at_once_and_keep_their_bits(
 
     few = slice(0, 200)
     whole = kn.sample_outputs(times[few], states[few], *system.kernel_arguments(), *extra)
-    parted = simulate_module.sampled_outputs(kn, times[few], states[few], system.kernel_arguments() + extra)
+    parted = simulate_module._sampled_outputs(kn, times[few], states[few], system.kernel_arguments() + extra)
     assert all(np.array_equal(a, b) for a, b in zip(whole, parted))
 
 

@@ -202,7 +202,7 @@ class SimulationResult:
     @classmethod
     def from_states(cls, model, system, kn, extra, times, states, drive, outputs=None):
         """Derived outputs of the raw states (``kn`` the kernels that produced them; ``outputs``: their
-        ``kn.sample_outputs`` made already, as :func:`.simulate.sampled_outputs` makes them)."""
+        ``kn.sample_outputs`` made already, as :func:`.simulate._sampled_outputs` makes them)."""
         from scipy.spatial.transform import Rotation
 
         n = system.n_dof

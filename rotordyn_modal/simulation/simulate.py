@@ -183,7 +183,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     if drive == "free":
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
                            "with an ideal drive, or extend the table")
-    outputs = sampled_outputs(kn, times, states, system.kernel_arguments() + extra)    # signals heeded
+    outputs = _sampled_outputs(kn, times, states, system.kernel_arguments() + extra)    # signals heeded
     return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive, outputs=outputs)
 
 
@@ -723,13 +723,13 @@ def _signals_noted():
                 signal.signal(number, handler)
 
 
-#: the output times' derived outputs (:func:`sampled_outputs`) are made in parts of about this many
+#: the output times' derived outputs (:func:`_sampled_outputs`) are made in parts of about this many
 #: entries of the mass matrix (n_dof squared each output time): a part of 2,006 coordinates is 4 output
 #: times, of 606 coordinates 45 (about 40 ms of CPU), of an example all of them at once
 _OUTPUT_PART_ENTRIES = 2 ** 24
 
 
-def sampled_outputs(kn, times, states, arguments):
+def _sampled_outputs(kn, times, states, arguments):
     """``kn.sample_outputs(times, states, *arguments)`` (:func:`._kernels.sample_outputs`: each output
     time's own, the same bits), made in parts of :data:`_OUTPUT_PART_ENTRIES`, a signal's Python
     handler held (:func:`_signals_noted`) during each part and called between two (the command

@@ -127,6 +127,7 @@ def test_the_fastest_rate_of_a_large_machine_is_the_dense_one_without_a_dense_so
     calls = []
     for name in ("eig", "eigvals"):
         monkeypatch.setattr(scipy.linalg, name, lambda *args, _name=name, **kwargs: calls.append(_name))
+        monkeypatch.setattr(np.linalg, name, lambda *args, _name=name, **kwargs: calls.append("numpy " + _name))
     rate = simulate_module._fastest_rate(model, 1.0, None)
     assert calls == []                               # main: ['eigvals']
     assert rate == pytest.approx(expected, rel=1e-12)

@@ -7,6 +7,7 @@ here; the critical speeds' refinement, which the sweep's brackets start, is in
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -668,6 +669,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
                                                                            values.shape[-1]))
         if wanted is not None:
             tables = [_table_below(tables[0], limit)]
+        tables = [_crossings_only(tables[0], sources[0], model)]
         _warn_of_jumps(tables[0], sources[0], model)
     else:
         tables = [_critical_table([], [], [], [], [], [], [], [])]
@@ -772,6 +774,35 @@ def _near(wanted):
     near[:, 1:] |= wanted[:, :-1]
     near[:, :-1] |= wanted[:, 1:]
     return near
+
+
+#: a row of the lowest modes' route this far off its order line (relative) is no critical speed:
+#: its tracked column passed to another root (see :func:`_crossings_only`)
+NOT_A_CROSSING = 1e-2
+
+
+def _crossings_only(table, sources, model):
+    """``table`` (CriticalSpeeds of the lowest modes' route) without its rows that are no crossing.
+
+    The route's columns are the lowest roots that are modes at each speed: where a root enters them
+    (a root becoming a mode as its damping ratio falls below ``OVERDAMPED_LIMIT``, or one passing
+    below the last of them), a tracked column passes from one root to another across the order
+    lines. The refinement closes in on that step, and the row's root there lies far off the line
+    (tens of % to several times the line's frequency). No finer grid removes it (the step
+    is in the set of roots, not between grid speeds), so such rows are left out and counted in one
+    warning; rows nearer the line than ``NOT_A_CROSSING`` stay (and are warned of as jumps)."""
+    off = off_order_line(table, sources)
+    away = off > NOT_A_CROSSING
+    if not away.any():
+        return table
+    at = ", ".join(dict.fromkeys(f"{s * 30 / np.pi:.6g}" for s in np.sort(np.asarray(table.speeds)[away])))
+    warnings.warn(f"{model.source}: {int(away.sum())} of {len(table)} critical speeds left out: not crossings "
+                  f"(the natural frequency up to {100 * off.max():.3g} % off the order line, at {at} rpm), where "
+                  f"a tracked mode passes to a root entering the lowest modes (a root becoming a mode, or "
+                  f"passing below the last one asked for)", stacklevel=4)
+    return _critical_table(*(np.asarray(column)[~away] for column in (
+        table.source, table.order, table.mode, table.speeds, table.frequencies_hz, table.whirl, table.whirl_ratios,
+        table.damping_ratios)))
 
 
 def _table_below(table, limit):

@@ -81,3 +81,40 @@ def test_lowest_modes_stability_map_log_decrements():
     truth = -PAIR_REAL / PAIR_HZ                               # -2 pi Re s / Im s
     assert np.abs(run.log_decrements[0][order] - truth).max() < 1e-8 * truth.max()
     assert warned == []
+
+
+def _cut_shaft(cuts=6, element=0.07):
+    """The 10 m shaft of ``_cross_coupled_model`` with ``cuts`` 1 mm sections spread along it, meshed
+    at ``element`` [m] (624 coordinates): ten inexact roots at 3,000 rpm, a big machine's polish."""
+    step = 10.0 / (cuts + 1)
+    return rdm.Model.from_dict({
+        "name": "1 mm sections on cross-coupled bearings", "spin_axis": [1.0, 0.0, 0.0], "reference_rotor": "s",
+        "materials": [{"name": "steel", "density": 7800.0, "young_modulus": 2.0e11, "poisson_ratio": 0.3}],
+        "rotors": [{"name": "s", "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0, "element_length": element,
+                    "shear": "none", "shaft": [{"length": L, "outer_diameter": 0.05, "material": "steel"}
+                                               for L in [step] + [0.001, step - 0.001] * cuts]}],
+        "bearings": [{"name": f"b{i}", "rotor": "s", "axial_position": z, "stiffness": 1e3, "damping": 10.0}
+                     for i, z in enumerate((1.0, 9.0))]})
+
+
+def test_a_big_machines_polish_costs_about_its_solve(monkeypatch):
+    """On 624 coordinates with ten inexact roots a speed, main polished all ten (``POLISH_WORK`` =
+    10 eigen-solves, one root counted as one): 68 % of the run's CPU. The budget falls with size
+    (``polish_budget``: 2 from about 540 coordinates) and a root counts ``sqrt(240 / n)`` (measured:
+    0.34 of a solve at 600): three roots (here a pair and one), about one solve; the others are
+    warned of."""
+    from rotordyn_modal.analysis import _lowest_newton
+
+    calls = []
+    original = _lowest_newton.block_polished
+
+    def counted(M, damping, stiffness, roots, shapes, branches=None):
+        calls.append(len(roots))
+        return original(M, damping, stiffness, roots, shapes, branches)
+
+    monkeypatch.setattr(_lowest_newton, "block_polished", counted)
+    model = _cut_shaft()
+    assert model.dofs.n > 540
+    result, warned = _quiet(lambda: rdm.campbell(model, np.array([SPEED]), critical=False))
+    assert sum(calls) == 3, calls                       # a pair (1.24) and a root (0.62) here
+    assert len(warned) == 1 and "3,000 rpm" in warned[0], warned

@@ -212,17 +212,18 @@ def _exactly_polished(pencils, index, lam, x, double, uncertain):
     closer than their double round-off ``double`` (P,) together (:func:`block_polished`), the
     others one at a time (a root whose steps do not converge with its nearest neighbour), the
     residual's stiffness term summed exactly, on the rational pencil where the model has Maxwell
-    branches; lowest first within ``_eigensolve.POLISH_WORK`` a speed, and only up to
+    branches; lowest first within ``_eigensolve.polish_budget`` a speed, and only up to
     ``_PAIR_LARGEST`` coordinates (dense systems). Returns the error left (P,), NaN where not
     polished. A 1 mm shaft section in a casing on Maxwell mounts: the lowest pair 5.5e-6 and
     1.7e-6 off after the extended residual, within 1e-12 after."""
-    from ._eigensolve import POLISH_WORK, _clusters, _nearest_other, polish_work
+    from ._eigensolve import _clusters, _nearest_other, polish_budget, polish_work
 
     left = np.full(len(lam), np.nan)
     if x.shape[1] > _PAIR_LARGEST:
         return left
     M = pencils.M.toarray() if scipy.sparse.issparse(pencils.M) else np.asarray(pencils.M, dtype=float)
     branches = _branches_of(pencils)
+    n = x.shape[1]
     for speed in np.unique(index[uncertain]):
         at = np.flatnonzero(index == speed)
         wanted = np.flatnonzero(uncertain[at])
@@ -232,9 +233,9 @@ def _exactly_polished(pencils, index, lam, x, double, uncertain):
         for run in _clusters(values, double[at], wanted[np.argsort(values[wanted].imag)]):
             tries = [run] if len(run) > 1 else [run, np.array([run[0], _nearest_other(values, run[0])])]
             for group in tries:
-                if spent + polish_work(len(group)) > POLISH_WORK:
+                if spent + polish_work(len(group), n) > polish_budget(n):
                     break
-                spent += polish_work(len(group))
+                spent += polish_work(len(group), n)
                 found = block_polished(M, damping, stiffness, values[group], shapes[group], branches)
                 if found is not None:
                     values[group] = found[0]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import inspect
 from dataclasses import dataclass
 
 import numpy as np
@@ -563,9 +564,11 @@ def threshold_speeds(form, speeds, eigenvalues, roundoff=None, largest=None):
     if roundoff is None:
         roundoff = roundoff_levels(form, speeds)
     if largest is None:
-        def largest(speed, clip=True):
-            return _largest_real_part(form, speed, clip)
+        def largest(speed, clip=True, near=None):
+            return _largest_real_part(form, speed, clip, near)
     real_part = largest
+    # a caller's own ``largest(speed, clip)`` (before ``near``): the rules below only
+    by_root = "near" in inspect.signature(real_part).parameters
     significant = _significant_real_parts(eigenvalues, roundoff=roundoff)
     largest = significant.max(axis=1, initial=-np.inf)
     unstable = largest > 0
@@ -575,7 +578,7 @@ def threshold_speeds(form, speeds, eigenvalues, roundoff=None, largest=None):
         other = _last_stable(largest, k if side == k + 1 else k + 1, -1 if side == k + 1 else 1)
         # NaN: a mode above max_frequency at that speed, not judged
         column = int(np.argmax(np.where(np.isnan(eigenvalues[side]), -np.inf, eigenvalues[side].real)))
-        root = _crossing_zero(real_part, speeds, eigenvalues, significant, k, column)
+        root = _crossing_zero(real_part, speeds, eigenvalues, significant, k, column) if by_root else None
         if root is None and other is not None:
             a, b = sorted((speeds[other], speeds[side]))
             root = _brent(real_part, a, b)

@@ -107,26 +107,18 @@ def _cross_coupled_model(q=100.0, c=10.0):
 #: table interpolated linearly in rpm (the code's rule) between ``stiffness_at`` 0 and 6,000 rpm,
 #: secant steps on the speed for ``Re s = 0``
 THRESHOLD_RPM = 2085.799793656464484041
-#: the forward mode's real part [1/s] there at 2,080 and 2,090 rpm (the same solves): its slope
-THRESHOLD_SLOPE = (1.120509243e-4 + 1.547242016e-4) / 10.0
 
 
 def test_stability_threshold_on_polished_roots():
-    """Main refined the threshold on the unpolished roots: 2,085.96877 rpm, 8.1e-5 off. Now it is
-    refined on the polished ones, to 1e-9 of where the forward mode's real part reaches the
-    sweep's round-off level (``stability.roundoff_levels``, eps ||B||_1, within which a real part
-    counts as zero: the stiff section's 3.7e-9 1/s, so that the threshold the code defines lies
-    that far past the real part's zero, 1.4e-4 rpm at the truth's slope)."""
-    from rotordyn_modal.analysis.stability import roundoff_levels
-    from rotordyn_modal.linear_system import speed_linear_form
-
+    """Main refined the threshold on the unpolished roots: 2,085.96877 rpm, 8.1e-5 off. Then
+    (roots27o) on the polished ones, to where the forward mode's real part reached the sweep's
+    round-off level (eps ||B||_1 = 3.7e-9 1/s: 1.4e-4 rpm past its zero). Now (roots27p) the zero
+    of the crossing root's own real part, within 1e-9 of the 34-digit solve."""
     model = _cross_coupled_model()
     result, _ = _caught(lambda: rdm.stability(model, rdm.rpm(np.linspace(0.0, 6000.0, 13))))
     assert len(result.thresholds) == 1 and result.threshold_onsets[0]
     found = result.thresholds[0] * 30 / np.pi
-    level = roundoff_levels(speed_linear_form(model), result.thresholds)[0]
-    expected = THRESHOLD_RPM + level / THRESHOLD_SLOPE
-    assert abs(found - expected) < 1e-9 * THRESHOLD_RPM, (found, expected)
+    assert abs(found - THRESHOLD_RPM) < 1e-9 * THRESHOLD_RPM, (found, THRESHOLD_RPM)
 
 
 #: the Maxwell model's 1x critical speeds of its lowest pair [rpm] and frequencies there [Hz],

@@ -12,7 +12,6 @@ doubles) in 40-digit arithmetic, by mpmath 1.3.0 (``mpmath.eig`` of the state ma
 
 from __future__ import annotations
 
-import re
 import warnings
 
 import numpy as np
@@ -35,8 +34,7 @@ def test_the_warned_accuracy_bounds_the_error_of_an_unseparated_pair(tmp_path):
     found = np.sort(result.frequencies_hz[0])
     error = np.abs(found - TRUTH_HZ) / TRUTH_HZ
     warned = [str(w.message) for w in caught if "exact only to about" in str(w.message)]
-    assert len(warned) == 1 and "3,000 rpm" in warned[0], warned
-    promised = float(re.search(r"exact only to about ([0-9.e+-]+) relative", warned[0]).group(1))
-    assert error.max() <= promised, (error, warned)
-    # the pair polished together (cond28h, ``_lowest_newton.pair_polished``): within 1e-9 as the others
+    # the pair polished together (cond28h, ``_lowest_newton.pair_polished``): within 1e-9 as the others;
+    # the roots the extended residual left inexact polished as the full solve's (roots27p): none warned of
+    assert warned == [], warned
     assert error.max() < 1e-9, error

@@ -18,7 +18,7 @@ from . import _batches, _roots, _vectors
 
 __all__ = ["REPEATED_TOLERANCE", "TIE_TOLERANCE", "eig", "eigenvalues_of", "frequency_order", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
            "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots", "branch_terms",
-           "POLISH_WORK", "polish_work"]
+           "POLISH_WORK", "polish_work", "polish_budget"]
 
 
 def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False, mass=None):
@@ -711,7 +711,7 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
     :func:`._lowest_newton.pair_polished`: block Newton steps with the residual's stiffness term
     summed exactly), the others one at a time (:func:`._lowest_newton.root_polished`: the same
     steps for one root, its shape's phase kept); every root of a well-conditioned machine
-    untouched. Lowest first, within :data:`POLISH_WORK` a speed (:func:`polish_work`): past it the
+    untouched. Lowest first, within :func:`polish_budget` a speed (:func:`polish_work`): past it the
     roots keep their bound (and are warned of).
 
     Parameters
@@ -742,11 +742,12 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
 
     mass, damping, stiffness = (matrix.toarray() if hasattr(matrix, "toarray") else np.asarray(matrix)
                                 for matrix in (mass, damping, stiffness))
-    spent, budget = 0.0, POLISH_WORK
+    n = mass.shape[0]
+    spent, budget = 0.0, polish_budget(n)
     for run in _clusters(values, bound, wanted[np.argsort(values[wanted].imag)]):
-        if spent + polish_work(len(run)) > budget:      # left as the solve gave it (warned of, with its bound)
+        if spent + polish_work(len(run), n) > budget:      # left as the solve gave it (warned of, with its bound)
             continue
-        spent += polish_work(len(run))
+        spent += polish_work(len(run), n)
         if len(run) > 1:
             found = pair_polished(mass, damping, stiffness, values[run], shapes[run], branches)
             if found is not None:
@@ -765,9 +766,9 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
             continue
         # one root's steps that do not converge: a neighbour near its round-off (a gap of a few
         # times it slows them to a crawl) polished with it, as a pair
-        if spent + polish_work(2) > budget:
+        if spent + polish_work(2, n) > budget:
             continue
-        spent += polish_work(2)
+        spent += polish_work(2, n)
         pair = np.array([a, _nearest_other(values, a)])
         found = pair_polished(mass, damping, stiffness, values[pair], shapes[pair], branches)
         if found is not None:
@@ -782,19 +783,41 @@ def _nearest_other(values, a):
     return int(np.argmin(distance))
 
 
-#: the polish's work at one speed at most, in eigen-solves of that speed (:func:`polish_work`):
-#: however many roots need it, polishing costs a speed at most this many times its own solve, so a
-#: machine with many inexact roots stays linear in them (the lowest first; past it the roots keep
-#: their bound and are warned of)
+#: the polish's work at one speed at most on a small machine (up to :data:`SMALL_MACHINE`
+#: coordinates), in eigen-solves of that speed (:func:`polish_work`): however many roots need it,
+#: polishing costs a speed at most this many times its own solve, so a machine with many inexact
+#: roots stays linear in them (the lowest first; past it the roots keep their bound and are warned
+#: of). A big machine's is smaller (:func:`polish_budget`)
 POLISH_WORK = 10.0
+#: coordinates up to which :data:`POLISH_WORK` holds, and the polish's units are those measured
+#: (one root 0.5 to 0.9 of the speed's solve, a pair 1.5 to 2)
+SMALL_MACHINE = 240
+#: the polish's work at one speed at most on a big machine (from about 540 coordinates), in
+#: eigen-solves: a pair still fits, and, the units being about twice the measured cost there,
+#: the polish costs about one solve of the speed at most, half the run's time
+BIG_MACHINE_WORK = 2.0
 
 
-def polish_work(size):
+def polish_budget(n):
+    """The polish's work at one speed at most [eigen-solves of the speed] on a machine of ``n``
+    coordinates: :data:`POLISH_WORK` up to :data:`SMALL_MACHINE` coordinates, falling as
+    ``(SMALL_MACHINE / n)^2`` above (a big machine's solve is long, and the polish had taken 68 %
+    of a 624-coordinate run with ten inexact roots a speed) to :data:`BIG_MACHINE_WORK` (or
+    :data:`POLISH_WORK` where smaller)."""
+    return max(min(BIG_MACHINE_WORK, POLISH_WORK), POLISH_WORK * min(1.0, SMALL_MACHINE / max(n, 1)) ** 2)
+
+
+def polish_work(size, n=0):
     """The work of polishing a cluster of ``size`` roots, in eigen-solves of the speed (the QR of
-    the ``2n`` state matrix with its vectors). Measured (``docs/theory.md``, "Close roots"): one
-    root 0.55 to 0.87 of the solve at 60 to 240 coordinates (at most 1), two roots 1.5 to 2; a
-    cluster of ``k`` solves ``k n + k^2`` unknowns three times, ``k^3 / 4`` (2 for a pair)."""
-    return 1.0 if size == 1 else size ** 3 / 4.0
+    the ``2n`` state matrix with its vectors), on a machine of ``n`` coordinates. Measured
+    (``docs/theory.md``, "Close roots"; CPU, same process, random SPD pencils): one root 0.87,
+    0.84, 0.52, 0.34, 0.23, 0.21 of the solve at 60, 120, 240, 600, 1,000, 1,500 coordinates, a
+    pair 1.96, 2.0, 1.45, 1.12, 0.85, 0.75, three roots 2.5, 2.5, 1.9 at 240, 600, 1,000. Counted
+    as 1 for one root, ``k^3 / 4`` for ``k`` (2 for a pair: ``k n + k^2`` unknowns solved three
+    times), times ``sqrt(SMALL_MACHINE / n)`` above :data:`SMALL_MACHINE` coordinates (at most
+    twice the measured cost)."""
+    work = 1.0 if size == 1 else size ** 3 / 4.0
+    return work * min(1.0, np.sqrt(SMALL_MACHINE / n)) if n > SMALL_MACHINE else work
 
 
 def _clusters(values, bound, order):

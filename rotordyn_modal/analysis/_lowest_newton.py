@@ -189,6 +189,10 @@ def _polished(pencils, index, lam, x):
     left = np.maximum(double * np.finfo(_EXTENDED).eps / np.finfo(float).eps, _unseparated(index, lam, double))
     left = np.where(np.isfinite(paired), paired, left)      # a pair polished together: its last step
     uncertain = left > _PROMISED
+    if uncertain.any():         # the full solve's polish, its residual's stiffness summed exactly
+        exact = _exactly_polished(pencils, index, lam, x, double, uncertain)
+        left = np.where(np.isfinite(exact), exact, left)
+        uncertain = left > _PROMISED
     if uncertain.any():
         named = _speeds_named(np.unique(pencils.speeds[index[uncertain]]))
         warnings.warn(f"lowest modes: {int(uncertain.sum())} root(s) (at {named}) "
@@ -199,6 +203,61 @@ def _polished(pencils, index, lam, x):
                          if np.any(uncertain & (left > double * np.finfo(_EXTENDED).eps / np.finfo(float).eps))
                          else ""), stacklevel=5)
     return lam, x
+
+
+def _exactly_polished(pencils, index, lam, x, double, uncertain):
+    """The roots ``lam`` (P,) at the speeds ``index`` (P,) with shapes ``x`` (P, n), both changed in
+    place, that the extended residual leaves further off than ``_PROMISED`` (``uncertain`` (P,)),
+    polished as the full solve polishes its roots (``_eigensolve.refined_pairs``): the neighbours
+    closer than their double round-off ``double`` (P,) together (:func:`block_polished`), the
+    others one at a time (a root whose steps do not converge with its nearest neighbour), the
+    residual's stiffness term summed exactly, on the rational pencil where the model has Maxwell
+    branches; lowest first within ``_eigensolve.polish_budget`` a speed, and only up to
+    ``_PAIR_LARGEST`` coordinates (dense systems). Returns the error left (P,), NaN where not
+    polished. A 1 mm shaft section in a casing on Maxwell mounts: the lowest pair 5.5e-6 and
+    1.7e-6 off after the extended residual, within 1e-12 after."""
+    from ._eigensolve import _clusters, _nearest_other, polish_budget, polish_work
+
+    left = np.full(len(lam), np.nan)
+    if x.shape[1] > _PAIR_LARGEST:
+        return left
+    M = pencils.M.toarray() if scipy.sparse.issparse(pencils.M) else np.asarray(pencils.M, dtype=float)
+    branches = _branches_of(pencils)
+    n = x.shape[1]
+    for speed in np.unique(index[uncertain]):
+        at = np.flatnonzero(index == speed)
+        wanted = np.flatnonzero(uncertain[at])
+        values, shapes = lam[at], x[at]
+        damping, stiffness = _dense_pencil(pencils, int(speed))
+        spent = 0.0
+        for run in _clusters(values, double[at], wanted[np.argsort(values[wanted].imag)]):
+            tries = [run] if len(run) > 1 else [run, np.array([run[0], _nearest_other(values, run[0])])]
+            for group in tries:
+                if spent + polish_work(len(group), n) > polish_budget(n):
+                    break
+                spent += polish_work(len(group), n)
+                found = block_polished(M, damping, stiffness, values[group], shapes[group], branches)
+                if found is not None:
+                    values[group] = found[0]
+                    shapes[group] = [_vectors.phase_aligned(new, old) for new, old in zip(found[1], shapes[group])]
+                    left[at[group]] = found[2]
+                    break
+        lam[at], x[at] = values, shapes
+    return left
+
+
+def _branches_of(pencils):
+    """The Maxwell branches of rational ``pencils`` as :func:`block_polished` takes them: ``K_t``
+    (b, q, q) on the first ``q`` coordinates (the stator's) and ``tau_t`` (b,) [s]; None for a
+    quadratic pencil."""
+    terms = getattr(pencils, "terms", None)
+    if not terms:
+        return None
+    q = max(int(term[1].max()) for term in terms) + 1
+    stiffness = np.zeros((len(terms), q, q))
+    for K, (_, where, block, _, _) in zip(stiffness, terms):
+        K[np.ix_(where, where)] = block
+    return stiffness, np.array([term[0] for term in terms], dtype=float)
 
 
 def _unseparated(index, lam, double):

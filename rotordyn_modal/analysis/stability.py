@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import inspect
 from dataclasses import dataclass
 
 import numpy as np
@@ -343,8 +344,8 @@ def _counted(largest, bar):
         return largest
     done = [0]
 
-    def counted(speed, clip=True):
-        value = largest(speed, clip)
+    def counted(speed, clip=True, near=None):
+        value = largest(speed, clip, near)
         done[0] += 1
         bar.set_description(f"{_THRESHOLDS}: {done[0]} eigen-solution{'s' if done[0] > 1 else ''}", refresh=False)
         return value
@@ -367,9 +368,11 @@ def _stability_lowest(stack, speeds, count, limit_hz=None) -> StabilityResult:
     roundoff = roundoff_levels(form, speeds)
     lowest = _LowestRoots(stack, count, limit)
 
-    def largest(speed, clip=True):
+    def largest(speed, clip=True, near=None):
         roots, _ = lowest.at(speed)
         roots = roots[np.isfinite(roots)]       # fewer roots than asked (a model of few coordinates)
+        if near is not None:
+            return _nearest_real_part(roots, near)
         # -inf: no root below max_frequency at that speed (nothing judged there)
         return float(_significant_real_parts(roots, clip, roundoff_levels(form, [speed]) if clip else None)
                      .max(initial=-np.inf))
@@ -533,7 +536,10 @@ def threshold_speeds(form, speeds, eigenvalues, roundoff=None, largest=None):
     Real parts within round-off of zero count as zero (marginal, as in an undamped machine):
     within ``1e-10`` of the root's own ``|lam|`` or within :func:`roundoff_levels`, the error
     bound of a computed eigenvalue. Only a change between stable or marginal and unstable is a
-    threshold. A sign change beyond round-off on both sides (from the last speed below round-off
+    threshold. Where the root that crosses has a real part beyond round-off on both grid speeds
+    around the change (negative on the one, positive on the other), the threshold is the zero of
+    that root's own real part (:func:`_crossing_zero`), whatever the other roots' round-off.
+    Otherwise, a sign change beyond round-off on both sides (from the last speed below round-off
     through marginal speeds, if any, to the first above) is refined with Brent's method on the
     eigenproblem; a change from (or to) marginal throughout is located by bisection of the
     predicate "unstable beyond round-off". No root crossing beyond round-off: no threshold.
@@ -546,9 +552,10 @@ def threshold_speeds(form, speeds, eigenvalues, roundoff=None, largest=None):
     roundoff : ndarray, shape (N,) [1/s], optional
         :func:`roundoff_levels` (computed when not given).
     largest : callable, optional
-        ``largest(speed, clip=True)``: the largest real part of the roots judged at one speed
-        [1/s] (clipped: as :func:`_significant_real_parts`), for the refinement. Default: of
-        every root of the state matrix (``stability(modes=N)`` gives its N lowest roots).
+        ``largest(speed, clip=True, near=None)``: the largest real part of the roots judged at one
+        speed [1/s] (clipped: as :func:`_significant_real_parts`), for the refinement; with
+        ``near`` (complex [1/s]), the unclipped real part of the root nearest it instead. Default:
+        of every root of the state matrix (``stability(modes=N)`` gives its N lowest roots).
 
     Returns
     -------
@@ -557,26 +564,56 @@ def threshold_speeds(form, speeds, eigenvalues, roundoff=None, largest=None):
     if roundoff is None:
         roundoff = roundoff_levels(form, speeds)
     if largest is None:
-        def largest(speed, clip=True):
-            return _largest_real_part(form, speed, clip)
+        def largest(speed, clip=True, near=None):
+            return _largest_real_part(form, speed, clip, near)
     real_part = largest
-    largest = _significant_real_parts(eigenvalues, roundoff=roundoff).max(axis=1, initial=-np.inf)
+    # a caller's own ``largest(speed, clip)`` (before ``near``): the rules below only
+    by_root = "near" in inspect.signature(real_part).parameters
+    significant = _significant_real_parts(eigenvalues, roundoff=roundoff)
+    largest = significant.max(axis=1, initial=-np.inf)
     unstable = largest > 0
     found, modes, onsets = [], [], []
     for k in np.nonzero(unstable[:-1] != unstable[1:])[0]:
         side = k + 1 if unstable[k + 1] else k  # the speed where it is unstable
         other = _last_stable(largest, k if side == k + 1 else k + 1, -1 if side == k + 1 else 1)
-        root = None
-        if other is not None:
+        # NaN: a mode above max_frequency at that speed, not judged
+        column = int(np.argmax(np.where(np.isnan(eigenvalues[side]), -np.inf, eigenvalues[side].real)))
+        root = _crossing_zero(real_part, speeds, eigenvalues, significant, k, column) if by_root else None
+        if root is None and other is not None:
             a, b = sorted((speeds[other], speeds[side]))
             root = _brent(real_part, a, b)
         if root is None:
             root = _bisect_change(lambda s: real_part(s) > 0, speeds[k], speeds[k + 1])
         found.append(root)
-        # NaN: a mode above max_frequency at that speed, not judged
-        modes.append(int(np.argmax(np.where(np.isnan(eigenvalues[side]), -np.inf, eigenvalues[side].real))) + 1)
+        modes.append(column + 1)
         onsets.append(bool(unstable[k + 1]))
     return np.array(found), np.array(modes, dtype=int), np.array(onsets, dtype=bool)
+
+
+def _crossing_zero(real_part, speeds, eigenvalues, significant, k, column):
+    """The zero of the real part of the root that crosses between ``speeds[k]`` and
+    ``speeds[k + 1]`` [rad/s]: Brent's method on ``real_part(speed, clip=False, near=guess)``, the
+    real part of the root nearest the tracked column's eigenvalue interpolated linearly between
+    the two grid speeds. None (the caller's rules then) unless the column's real part is beyond
+    round-off at both ends with opposite signs (``significant``: :func:`_significant_real_parts`
+    of ``eigenvalues``) and the roots solved again there keep them. Where the crossing root's
+    neighbours are marginal (an undamped torsion or axial mode beside a damped lateral one), the
+    largest real part is 0 below the threshold and its sign change is the crossing root's
+    reaching the round-off level; its own zero lies ``eps ||B||_1 / slope`` before that."""
+    ends = eigenvalues[k:k + 2, column]
+    signs = np.sign(significant[k:k + 2, column])
+    if not np.isfinite(ends).all() or signs[0] * signs[1] >= 0:
+        return None
+    a, b = speeds[k], speeds[k + 1]
+
+    def f(speed):
+        t = (speed - a) / (b - a)
+        return real_part(speed, clip=False, near=(1 - t) * ends[0] + t * ends[1])
+
+    fa, fb = f(a), f(b)
+    if not (np.sign(fa) == signs[0] and np.sign(fb) == signs[1]):
+        return None
+    return brentq(f, a, b, xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
 
 
 def _last_stable(largest, start, step):
@@ -651,21 +688,23 @@ def roundoff_levels(form, speeds) -> np.ndarray:
     return np.where(_roots.conservative(form, speeds), np.inf, np.finfo(float).eps * out)
 
 
-def _largest_real_part(form, speed, clip: bool = True) -> float:
+def _largest_real_part(form, speed, clip: bool = True, near=None) -> float:
     """The largest real part at one speed [1/s], of the roots a sweep keeps (one of each
     conjugate pair, their round-off removed as the sweep's, each slow root judged by its own
-    shape: :func:`._eigensolve.eigenvalues_of`)."""
+    shape: :func:`._eigensolve.eigenvalues_of`); with ``near``, that of the root nearest it."""
     matrix = form.at(speed)
-    roundoff = roundoff_levels(form, [speed]) if clip else None
+    roundoff = roundoff_levels(form, [speed]) if clip and near is None else None
     roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(matrix[None], form.n_dof, form.matrices.M))
+    if near is not None:
+        return _nearest_real_part(roots[0], near)
     return float(_significant_real_parts(roots, clip, roundoff).max())
 
 
-def _polished_largest_real_part(stack, speed, clip: bool = True) -> float:
+def _polished_largest_real_part(stack, speed, clip: bool = True, near=None) -> float:
     """:func:`_largest_real_part` of the model of a one-model ``stack`` some of whose roots double
     precision leaves further off than :data:`._eigensolve.INEXACT_LEVEL`: of the roots the sweep
     keeps at one speed, with their shapes, polished as the sweep's (:func:`.campbell._refine_inexact`;
-    the sweep has warned of what is left)."""
+    the sweep has warned of what is left); with ``near``, that of the polished root nearest it."""
     import warnings
 
     speeds = np.array([float(speed)])
@@ -673,8 +712,17 @@ def _polished_largest_real_part(stack, speed, clip: bool = True) -> float:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelWarning)
         _refine_inexact(stack, speeds, values, shapes)
+    if near is not None:
+        return _nearest_real_part(values[0, 0], near)
     roundoff = roundoff_levels(stack.forms[0], speeds) if clip else None
     return float(_significant_real_parts(values[0], clip, roundoff).max())
+
+
+def _nearest_real_part(roots, near) -> float:
+    """The real part [1/s] of the root of ``roots`` (k,) complex nearest ``near`` (NaN roots left
+    out)."""
+    roots = np.asarray(roots).ravel()
+    return float(roots[np.nanargmin(np.abs(roots - near))].real)
 
 
 def _significant_real_parts(eigenvalues, clip: bool = True, roundoff=None) -> np.ndarray:

@@ -21,6 +21,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from rotordyn_modal.cli import main
 from rotordyn_modal.units import from_system
@@ -156,3 +158,23 @@ def test_every_us_csv_is_the_si_one_to_round_off(example, tmp_path, monkeypatch)
                 _same(si, _back_to_si(tables["us"][option], list(si.columns)), f"{example} {name} {option}")
                 compared.append(f"{name} {option}")
     assert compared and "static --out" in compared, (compared, refused)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(allow_nan=True, allow_infinity=True, width=64), min_size=1, max_size=20))
+def test_every_number_written_reads_back_as_the_same_double(tmp_path_factory, values):
+    """``write_csv`` (every CSV of the command line): any double, read back by pandas, is the
+    same double (NaN an empty cell, read as NaN; an integral value written without '.0')."""
+    from rotordyn_modal.cli._common import write_csv
+
+    path = tmp_path_factory.mktemp("csv") / "t.csv"
+    table = pd.DataFrame({"x": np.array(values, dtype=float), "n": np.arange(len(values))})
+    write_csv(table, path)
+    back = pd.read_csv(path)["x"].to_numpy(float)
+    same = (back == table["x"].to_numpy()) | (np.isnan(back) & np.isnan(table["x"].to_numpy()))
+    assert same.all(), (values, back)
+    numbers = ~np.isnan(back)
+    assert np.array_equal(np.signbit(back[numbers]), np.signbit(table["x"].to_numpy()[numbers]))   # -0 stays -0
+    integral = [v for v in values if np.isfinite(v) and v == int(v) and abs(v) < 1e16]
+    text = path.read_text()
+    assert not any(f"{int(v)}.0\n" in text for v in integral)

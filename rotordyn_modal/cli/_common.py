@@ -775,15 +775,17 @@ def exact_numbers(table):
         A copy; its float columns hold str (the other columns as given).
     """
     shown = table.copy()
-    for column in [c for c, kind in zip(table.columns, table.dtypes) if isinstance(kind, np.dtype) and kind.kind == "f"]:
-        values = table[column].to_numpy()
+    for k, kind in enumerate(table.dtypes):
+        if not (isinstance(kind, np.dtype) and kind.kind == "f"):
+            continue
+        values = table.iloc[:, k].to_numpy()
         text = values.astype(str)
         integral = np.char.endswith(text, ".0")
         if integral.any():      # a repr has one '.' at most: '3000.0' -> '3000'
             text[integral] = np.char.replace(text[integral], ".0", "")
         text = text.astype(object)
         text[np.isnan(values)] = ""
-        shown[column] = text
+        shown.isetitem(k, text)
     return shown
 
 

@@ -758,62 +758,31 @@ def check_extra_output(args, path, option: str, figure: bool = False):
         raise InputError(f"{option} {path}: the folder {Path(path).parent} does not exist")
 
 
-def exact_numbers(table):
-    """``table`` with each float column as the shortest text that reads back as the same double
-    (numpy's repr: ``0.1``, ``49.999999993481234``, ``1e-05``; ``3000`` for 3000.0, as ``%g``
-    wrote it; NaN empty, as pandas writes it): a number written and read back is the number
-    computed, so a US-units table converted back agrees with the SI one to round-off (issue 29),
-    not to the 5e-10 of the ten digits written before.
-
-    Parameters
-    ----------
-    table : DataFrame
-
-    Returns
-    -------
-    DataFrame
-        A copy; its float columns hold str (the other columns as given).
-    """
-    shown = table.copy()
-    for k, kind in enumerate(table.dtypes):
-        if not (isinstance(kind, np.dtype) and kind.kind == "f"):
-            continue
-        values = table.iloc[:, k].to_numpy()
-        text = values.astype(str)
-        integral = np.char.endswith(text, ".0")
-        if integral.any():      # a repr has one '.' at most: '3000.0' -> '3000'
-            text[integral] = np.char.replace(text[integral], ".0", "")
-        text = text.astype(object)
-        text[np.isnan(values)] = ""
-        shown.isetitem(k, text)
-    return shown
+#: the number format of every CSV the command line writes: 15 significant digits, as many as any
+#: decimal keeps through a double (DBL_DIG), so a number read back is the one computed to 5e-15
+#: (relative) and a US table converted back is the SI one to 1e-14 (issue 29; the ten digits of
+#: before agreed to 5e-10 only), while a sweep's speed prints as typed (100, not the
+#: 99.99999999999999 that rpm -> rad/s -> rpm leaves; docs/units.md)
+CSV_FLOAT_FORMAT = "%.15g"
 
 
-def write_csv(table, path, float_format=None):
-    """Write a DataFrame to a CSV file atomically (``float_format`` None: every number as
-    :func:`exact_numbers` writes it)."""
+def write_csv(table, path, float_format=CSV_FLOAT_FORMAT):
+    """Write a DataFrame to a CSV file atomically."""
     with atomic_write(path, "w", newline="") as handle:
-        _numbers(table, float_format).to_csv(handle, index=False, float_format=float_format)
+        table.to_csv(handle, index=False, float_format=float_format)
 
 
-def _numbers(table, float_format):
-    """``table`` as written: :func:`exact_numbers` unless a ``float_format`` is given."""
-    return exact_numbers(table) if float_format is None else table
-
-
-def write_table(table, args, float_format=None, empty: str | None = None):
+def write_table(table, args, float_format=CSV_FLOAT_FORMAT, empty: str | None = None):
     """Write a DataFrame to --out (atomic), or print it on the terminal (``empty``: the sentence
     printed instead of a table without rows, see :func:`print_table`). A CSV has its header even
     without rows, never a ``-0``."""
     out = getattr(args, "out", None)
     if out == "-":
-        _numbers(_without_negative_zeros(table), float_format).to_csv(sys.stdout, index=False,
-                                                                      float_format=float_format)
+        _without_negative_zeros(table).to_csv(sys.stdout, index=False, float_format=float_format)
     elif out:
         check_outputs(args, out)
         with atomic_write(out, "w", newline="") as handle:
-            _numbers(_without_negative_zeros(table), float_format).to_csv(handle, index=False,
-                                                                          float_format=float_format)
+            _without_negative_zeros(table).to_csv(handle, index=False, float_format=float_format)
     if out != "-" and not args.quiet:
         print_table(table, empty)
 

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
-from ._common import (add_alias, exact_numbers, add_allow_long, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
+from ._common import (CSV_FLOAT_FORMAT, add_alias, add_allow_long, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
                       show_progress, use_agg, whole_number)
 from ._resources import add_verbose
 from ._units import ENVIRONMENT, key_kind
@@ -296,7 +296,7 @@ def _write(result, args, folder, kinds=None):
     after_commit(lambda: remove_checkpoint(folder))
     if args.table:
         with atomic_write(args.table, "w", newline="") as handle:
-            exact_numbers(_in_units(result.to_dataframe(), kinds)).to_csv(handle, index=False)
+            _in_units(result.to_dataframe(), kinds).to_csv(handle, index=False, float_format=CSV_FLOAT_FORMAT)
 
 
 def _report(result, band, kinds=None):

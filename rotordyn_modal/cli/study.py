@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
-from ._common import (CSV_FLOAT_FORMAT, add_alias, add_allow_long, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
+from ._common import (add_alias, add_allow_long, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
                       show_progress, use_agg, whole_number)
 from ._resources import add_verbose
 from ._units import ENVIRONMENT, key_kind
@@ -292,6 +292,7 @@ def _write(result, args, folder, kinds=None):
     from ..io import atomic_write
     from ..io.atomic import after_commit
     from ..study.execution import remove_checkpoint
+    from ._common import CSV_FLOAT_FORMAT
 
     after_commit(lambda: remove_checkpoint(folder))
     if args.table:

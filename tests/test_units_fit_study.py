@@ -167,12 +167,12 @@ def _us_study(tmp_path, model, spec, *extra):
 
 
 def _si_table(result):
-    """The SI --table as the command writes it (10 significant digits), read back."""
+    """The SI --table as the command writes it (15 significant digits since issue 29), read back."""
     import io
 
     import pandas as pd
 
-    return pd.read_csv(io.StringIO(result.to_dataframe().to_csv(index=False, float_format="%.10g")))
+    return pd.read_csv(io.StringIO(result.to_dataframe().to_csv(index=False, float_format="%.15g")))
 
 
 def test_study_stability_map_in_us_units_says_what_the_si_one_says(tmp_path, capsys, monkeypatch):
@@ -196,8 +196,8 @@ def test_study_stability_map_in_us_units_says_what_the_si_one_says(tmp_path, cap
     sizes = {"damping A": ("damping A_lbf_s_per_in", LBF / INCH), "casing": ("casing_lb", POUND)}
     assert list(us.columns) == [sizes.get(c, (c,))[0] for c in si.columns]
     for column, (renamed, size) in sizes.items():
-        np.testing.assert_allclose(us[renamed], si[column] / size, rtol=6e-10)     # the CSV's 10 digits
-        np.testing.assert_allclose(us[renamed] * size, si[column], rtol=6e-10)     # and back
+        np.testing.assert_allclose(us[renamed], si[column] / size, rtol=1e-12)     # the CSV's every digit
+        np.testing.assert_allclose(us[renamed] * size, si[column], rtol=1e-12)     # and back
     others = [c for c in si.columns if c not in sizes]
     assert us[others].equals(si[others])
     us_map, si_map = figures[0].axes[0], result.plot_stability_map().axes[0]
@@ -227,8 +227,8 @@ def test_study_unbalance_amplitudes_in_us_units(tmp_path, capsys):
     renamed = {c: c + "_mil" for c in amplitudes} | {"stator.mass": "stator.mass_lb"}
     assert list(us.columns) == [renamed.get(c, c) for c in si.columns]
     for column in amplitudes:
-        np.testing.assert_allclose(us[column + "_mil"], si[column] / size, rtol=6e-10)   # 10 digits written
-    np.testing.assert_allclose(us["stator.mass_lb"], si["stator.mass"] / POUND, rtol=6e-10)
+        np.testing.assert_allclose(us[column + "_mil"], si[column] / size, rtol=1e-12)   # every digit written
+    np.testing.assert_allclose(us["stator.mass_lb"], si["stator.mass"] / POUND, rtol=1e-12)
     same = [c for c in si.columns if c not in renamed]
     assert us[same].equals(si[same]) and "stiffer" in same and any("speed" in c for c in same)
     summary = result.summary().set_index("output")

@@ -78,10 +78,8 @@ def _csv(capsys, argv):
 
 
 def _same_numbers(us, si, factor, column):
-    """US column = SI column x factor, to the CSV's 10 digits (values at round-off of the
-    column's largest, 1e-9 of it, may differ: they are noise)."""
-    scale = np.nanmax(np.abs(si)) if np.isfinite(si).any() else 1.0
-    np.testing.assert_allclose(us, si * factor, rtol=2e-10, atol=1e-9 * scale * np.max(factor), err_msg=column)
+    """US column = SI column x factor to 1e-12, every value (the CSV keeps every digit, issue 29)."""
+    np.testing.assert_allclose(us, si * factor, rtol=1e-12, atol=0, err_msg=column)
 
 
 def test_unbalance_in_us_units_says_the_same(capsys):
@@ -125,8 +123,7 @@ def test_static_in_us_units_says_the_same(capsys, monkeypatch):
         if column in renamed:
             _same_numbers(us[renamed[column]].to_numpy(float), si[column].to_numpy(float), factors[column], column)
         elif si[column].dtype.kind == "f":        # angles, eccentricities: the same numbers
-            scale = np.nanmax(np.abs(si[column])) if si[column].notna().any() else 1.0
-            np.testing.assert_allclose(us[column], si[column], rtol=2e-10, atol=1e-9 * scale, err_msg=column)
+            np.testing.assert_allclose(us[column], si[column], rtol=1e-12, atol=0, err_msg=column)
         else:
             assert (us[column].fillna("") == si[column].fillna("")).all(), column
 

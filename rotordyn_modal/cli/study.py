@@ -294,11 +294,12 @@ def _write(result, args, folder, kinds=None):
     from ..io import atomic_write
     from ..io.atomic import after_commit
     from ..study.execution import remove_checkpoint
+    from ._common import CSV_FLOAT_FORMAT
 
     after_commit(lambda: remove_checkpoint(folder))
     if args.table:
         with atomic_write(args.table, "w", newline="") as handle:
-            _in_units(result.to_dataframe(), kinds).to_csv(handle, index=False, float_format="%.10g")
+            _in_units(result.to_dataframe(), kinds).to_csv(handle, index=False, float_format=CSV_FLOAT_FORMAT)
 
 
 def _report(result, band, kinds=None):

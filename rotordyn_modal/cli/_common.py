@@ -918,9 +918,10 @@ def _at_round_off(table, round_off: dict):
 def _without_negative_zeros(table):
     """A copy of ``table`` whose float columns have no -0 (``-0.0 + 0.0`` is ``0.0``)."""
     table = table.copy()
-    for column in table.columns:
-        if table[column].dtype.kind == "f":
-            table[column] = table[column] + 0.0
+    floats = [place for place, kind in enumerate(table.dtypes) if kind.kind == "f"]
+    if floats:
+        # one block assignment: a column at a time costs seconds on a 6,000-column simulate table
+        table.iloc[:, floats] = table.iloc[:, floats] + 0.0
     return table
 
 

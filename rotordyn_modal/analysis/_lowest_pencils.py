@@ -198,7 +198,8 @@ class _Pencils:
                 s1, x1 = s0 - step, u / cu[:, None]
                 # the rows whose Newton step is not yet at round-off take the chord step
                 chord = np.arange(len(s0)) if done is None else np.nonzero(~(np.abs(step) <= done * np.abs(s1)))[0]
-                z = self._chord_solve(ab, pivots, factored, self.residual_times(rows[chord], s1[chord], x1[chord]), chord)
+                residual = self.residual_times(rows[chord], s1[chord], x1[chord])
+                z = self._chord_solve(ab, pivots, factored, residual, chord)
                 ds = -np.einsum("pi,pi->p", cc[chord], z) / cu[chord]
                 s2, x2 = s1.copy(), x1
                 s2[chord] = s1[chord] + ds

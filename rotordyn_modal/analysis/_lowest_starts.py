@@ -296,7 +296,8 @@ class _Expansions:
     (``centers``, ``radii``, (J, 2m); each radius plus its row's share of the decomposition's own
     error ``V^-1 A_a V - Lambda``, at most ``|V^-1| |A_a V - V Lambda|`` summed), and for each root ``k`` followed from ``a`` the second-order change of its projected
     root, ``F_kk + sum_l F_kl F_lk / (lambda_k - lambda_l)``, at the speed (``changes`` (J, want)) and
-    at the ``_NODES`` refined speeds around it (``node_changes`` (J, q, want)).
+    at the ``q`` refined speeds around it (``node_changes`` (J, q, want); ``q`` from ``_NODES`` up to
+    ``_MOST_NODES``, within the speed's piece of the bearing tables where it holds them, :func:`_around`).
 
     Parameters
     ----------
@@ -590,8 +591,8 @@ def _interpolated_shapes(expansions, rows, shapes, found, which=None):
 def _expansion_guesses(expansions, rows, values, shapes, ok):
     """Newton's starts at the speeds ``expansions.between[rows]`` from the refined roots of their
     nodes and the projected roots' changes (:class:`_Expansions`): for each root followed from the
-    nearer anchor, ``g = root - change`` at the ``_NODES`` refined speeds around the speed
-    (:func:`_at_nodes`), interpolated in the speed (Lagrange, cubic), plus the change at the speed;
+    nearer anchor, ``g = root - change`` at the ``q`` refined speeds around the speed (:class:`_Expansions`'
+    ``nodes``, :func:`_at_nodes`), interpolated in the speed (Lagrange, up to quintic), plus the change at the speed;
     its vector the nodes' shapes interpolated (:func:`_interpolated_shapes`). A speed where a root
     cannot be followed to every node, or a node failed, is not ``sure``.
 

@@ -120,3 +120,27 @@ def test_roots_at_the_knots_are_the_full_models(sweep, row):
     each to 1e-10."""
     model, result, _, _ = sweep
     assert_lowest_are_the_full_models(model, SPEEDS[row], result.eigenvalues[row], rtol=1e-10)
+
+
+def test_every_speed_between_anchors_is_carried_at_101_speeds():
+    """At 101 speeds six nodes reach too far for the first speeds' roots to be followed to them:
+    those speeds take their nearest four (``_Expansions.narrowed``), so every speed but the solved
+    anchors is still carried over (none takes its own projected roots). A guard: main's four nodes
+    carried them all too; with six and no fallback, 5 of the first 13 speeds were not."""
+    from rotordyn_modal.analysis import _lowest
+
+    path = DATA / "compressor_example.toml"
+    model = rdm.Model.from_dict(read_ross_rotor(path), source=path)
+    continued, carried = _lowest._continued, []
+
+    def recording(pencils, guesses, vectors, rows):
+        carried.append(np.array(rows))
+        return continued(pencils, guesses, vectors, rows)
+
+    _lowest._continued = recording
+    try:
+        rdm.campbell(model, np.linspace(SPEEDS[0], SPEEDS[-1], 101), critical=False, modes=12)
+    finally:
+        _lowest._continued = continued
+    solved = set(range(0, 101, 8)) | {100}
+    assert sorted(np.concatenate(carried).tolist()) == sorted(set(range(101)) - solved)

@@ -53,12 +53,13 @@ def _continued(pencils, guesses, vectors, rows):
     neighbouring speeds: ``_lowest_starts._expansion_guesses``) at the speeds ``rows`` (S,): one
     factorisation per root, a Newton step and a chord step (``_Pencils.newton_chord``), where the
     chord step shows the root at round-off (the same rule as :func:`_newton`'s on its steps: at most
-    ``_STEP``, or the error it leaves, ``second^2 / first``, at most ``_LEFT``); Newton's iteration
-    for the others (and everywhere the pencils are not banded without a border)."""
+    ``_STEP``, or the error it leaves, ``second^2 / first``, at most ``_LEFT``); a root whose Newton
+    step is already at most ``_STEP`` takes no chord step (one back-substitution: Newton's own rule);
+    Newton's iteration for the others (and everywhere the pencils are not banded without a border)."""
     S, k, n = vectors.shape
     index = np.repeat(np.asarray(rows), k)
     lam, x = guesses.reshape(-1), vectors.reshape(-1, n)          # read only: the chord's results are new arrays
-    chord = pencils.newton_chord(index, lam, x, x.conj())
+    chord = pencils.newton_chord(index, lam, x, x.conj(), _STEP)
     if chord is None:
         return _refined(pencils, guesses, vectors, rows)
     lam, x, first, second = chord

@@ -146,9 +146,12 @@ class _Pencils:
             out[p] = scipy.sparse.linalg.splu(Q).solve(rhs[p])
         return out
 
-    def newton_chord(self, index, lam, x, c):
+    def newton_chord(self, index, lam, x, c, done=None):
         """One Newton step and one chord step (the same factorisation) from roots ``lam`` (P,) with
-        vectors ``x`` (P, n), the scale fixed by ``c`` (P, n) as in ``_lowest_newton._refined``.
+        vectors ``x`` (P, n), the scale fixed by ``c`` (P, n) as in ``_lowest_newton._refined``; with
+        ``done``, no chord step where the Newton step is at most ``done`` times ``|s_1|`` (Newton's own
+        rule for a root at round-off, ``_lowest_newton._STEP``: its second solve and residual are not
+        needed).
 
         The Newton step: ``u = Q(s_0)^-1 Q'(s_0) x_0``, ``s_1 = s_0 - c^H x_0 / c^H u``,
         ``x_1 = u / c^H u``. The chord step is Newton's step on the bordered system
@@ -163,7 +166,8 @@ class _Pencils:
         -------
         lam : ndarray, shape (P,), complex; x : ndarray, shape (P, n), complex
         first, second : ndarray, shape (P,)
-            The two steps' lengths relative to ``|s_2|`` (nan where a pencil was singular).
+            The two steps' lengths relative to ``|s_2|`` (nan where a pencil was singular); where no
+            chord step was taken, ``s_2 = s_1``, ``x_2 = x_1`` and ``second`` is 0.
         """
         band = self.band
         n = self.M.shape[0]
@@ -171,11 +175,12 @@ class _Pencils:
                 or _lapack("zgbtrs") is None:
             return None
         width = 2 * band.lower + band.upper + 1
-        return _batches._threaded(self._banded_chord, index, lam, x, c, item_bytes=16 * n * (width + 4))
+        chord = functools.partial(self._banded_chord, done=done)
+        return _batches._threaded(chord, index, lam, x, c, item_bytes=16 * n * (width + 4))
 
-    def _banded_chord(self, index, lam, x, c):
+    def _banded_chord(self, index, lam, x, c, done=None):
         """:meth:`newton_chord` of some rows: band storage in chunks, ``zgbtrf`` once per row and
-        ``zgbtrs`` twice."""
+        ``zgbtrs`` once, and again for the rows that take the chord step."""
         band = self.band
         n = self.M.shape[0]
         width = 2 * band.lower + band.upper + 1
@@ -191,20 +196,27 @@ class _Pencils:
                 cu = np.einsum("pi,pi->p", cc, u)
                 step = np.einsum("pi,pi->p", cc, x0) / cu
                 s1, x1 = s0 - step, u / cu[:, None]
-                z = self._chord_solve(ab, pivots, factored, self.residual_times(rows, s1, x1))
-                ds = -np.einsum("pi,pi->p", cc, z) / cu
-                s2 = s1 + ds
-                lam_out[part], x_out[part] = s2, x1 - z - ds[:, None] * u
-                first[part], second[part] = np.abs(step) / np.abs(s2), np.abs(ds) / np.abs(s2)
+                # the rows whose Newton step is not yet at round-off take the chord step
+                chord = np.arange(len(s0)) if done is None else np.nonzero(~(np.abs(step) <= done * np.abs(s1)))[0]
+                residual = self.residual_times(rows[chord], s1[chord], x1[chord])
+                z = self._chord_solve(ab, pivots, factored, residual, chord)
+                ds = -np.einsum("pi,pi->p", cc[chord], z) / cu[chord]
+                s2, x2 = s1.copy(), x1
+                s2[chord] = s1[chord] + ds
+                x2[chord] = x1[chord] - z - ds[:, None] * u[chord]
+                lam_out[part], x_out[part] = s2, x2
+                first[part], second[part] = np.abs(step) / np.abs(s2), 0.0
+                second[part][chord] = np.abs(ds) / np.abs(s2[chord])
         return lam_out, x_out, first, second
 
-    def _chord_solve(self, ab, pivots, factored, rhs):
+    def _chord_solve(self, ab, pivots, factored, rhs, which=None):
         """``Q^-1 rhs`` (P, n) from the banded LU factors ``ab`` (P, size, width) and ``pivots``
-        (P, n) of ``zgbtrf``; nan where a pencil was singular (``factored`` False)."""
+        (P, n) of ``zgbtrf`` (with ``which`` (R,): of the rows ``which`` of them, ``rhs`` (R, n));
+        nan where a pencil was singular (``factored`` False)."""
         band = self.band
         y = np.ascontiguousarray(rhs[:, band.order])
-        _back_solved(band.lower, band.upper, ab, pivots, y)
-        y[~factored] = np.nan
+        _back_solved(band.lower, band.upper, ab, pivots, y, which)
+        y[~(factored if which is None else factored[which])] = np.nan
         out = np.empty(y.shape, complex)
         out[:, band.order] = y
         return out
@@ -387,23 +399,25 @@ def _factored(kl: int, ku: int, ab, pivots) -> np.ndarray:
     return out
 
 
-def _back_solved(kl: int, ku: int, ab, pivots, y) -> None:
+def _back_solved(kl: int, ku: int, ab, pivots, y, which=None) -> None:
     """``zgbtrs`` of every row: ``y`` (P, n) overwritten by the solutions of the systems whose
     factors :func:`_factored` left in ``ab`` (P, n, width) and ``pivots`` (P, n) (rows that were
-    not factored give what LAPACK gives: the caller marks them)."""
+    not factored give what LAPACK gives: the caller marks them); with ``which`` (R,), of those
+    rows only, ``y`` (R, n)."""
     P, n, width = ab.shape
+    which = np.arange(P) if which is None else np.asarray(which)
     where, pivot_at, rhs_at = _rows_at(ab, (n, width)), _rows_at(pivots, (n,)), _rows_at(y, (n,))
     if where is None or pivot_at is None or rhs_at is None:
-        for p in range(P):
-            _gbtrs(kl, ku, ab[p].T, pivots[p], y[p])
+        for r, p in enumerate(which):
+            _gbtrs(kl, ku, ab[p].T, pivots[p], y[r])
         return
     function, sizes = _lapack("zgbtrs"), _sizes(n, kl, ku, 1, width)
     info = ctypes.c_int(0)
     status, transpose = ctypes.byref(info), ctypes.byref(_NO_TRANSPOSE)
     (start, step), (pivot_start, pivot_step), (rhs_start, rhs_step) = where, pivot_at, rhs_at
-    for p in range(P):
+    for r, p in enumerate(which.tolist()):
         function(transpose, sizes[0], sizes[1], sizes[2], sizes[3], start + p * step, sizes[4],
-                 pivot_start + p * pivot_step, rhs_start + p * rhs_step, sizes[0], status)
+                 pivot_start + p * pivot_step, rhs_start + r * rhs_step, sizes[0], status)
 
 
 def _solved_rows(kl: int, ku: int, ab, y) -> np.ndarray:

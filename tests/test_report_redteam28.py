@@ -1,0 +1,80 @@
+"""Two things a reviewer of ``rotordyn-modal report`` could not trace to their numbers (redteam28,
+reports of every example looked at in headless Chromium):
+
+* the static displacement table mixed two references without saying so: the stator's rows are
+  relative to the ground (flexible_pump_on_mounts: -3373 µm on its rubber mounts), a rotor's
+  relative to the stator (its motion in its bearings: -0.40 µm), docs/static.md; a reader took
+  the pump's +0.30 µm as the pump rising while its casing sinks 3.4 mm. A "relative to" column
+  now says which, checked here against the stator's own motion (the rotor rows are not it);
+* an AF table row "not evaluated" showed empty AF and required-margin cells with no reason (the
+  reason was only in the summary's note).
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+from pathlib import Path
+
+import numpy as np
+
+from rotordyn_modal.io import load_model
+from rotordyn_modal.report import ReportInputs
+
+report_collect = importlib.import_module("rotordyn_modal.report.collect")
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def _cells(html: str):
+    headers = [re.sub(r"<[^>]+>", "", h) for h in re.findall(r"<th[^>]*>(.*?)</th>", html)]
+    rows = [[re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<td[^>]*>(.*?)</td>", row)]
+            for row in re.findall(r"<tr>(.*?)</tr>", html)[1:]]
+    return headers, rows
+
+
+def _static_table(name: str):
+    from rotordyn_modal.report import render
+
+    model = load_model(EXAMPLES / f"{name}.toml")
+    data = report_collect.ReportData(ReportInputs("api684", 3000 * np.pi / 30), model, {}, ("static",))
+    report_collect._static(data)
+    html = render._static(data, "si")
+    table = html[html.index("Static displacement"):html.index("Reactions")]
+    return data.results["static"], _cells(table)
+
+
+def test_static_rows_say_what_they_are_relative_to():
+    result, (headers, rows) = _static_table("flexible_pump_on_mounts")
+    assert headers[:3] == ["body", "point", "relative to"], headers
+    bodies = {r[0]: r[2] for r in rows}
+    assert bodies == {"stator": "ground", "motor": "stator", "pump": "stator"}, bodies
+    # the stator's rows are its motion over the ground: its centre sinks by about weight / stiffness
+    stator_z = float(rows[0][5])
+    assert stator_z < -1000.0                                          # µm: 3.4 mm on the rubber mounts
+    # a rotor's rows are not the stator's motion at that point (they are the motion in its bearings)
+    for row in rows:
+        if row[0] != "stator":
+            assert abs(float(row[5])) < 1e-3 * abs(stator_z), row
+
+
+def test_static_rows_of_a_rotor_on_the_ground_are_relative_to_the_ground():
+    _, (headers, rows) = _static_table("journal_rotor")
+    assert headers[2] == "relative to" and {r[2] for r in rows} == {"ground"}
+
+
+def test_af_rows_not_evaluated_say_why():
+    import pandas as pd
+
+    from rotordyn_modal.report.render import margins_table
+
+    margins = pd.DataFrame({"output": ["p", "p"], "case": ["api-static:r", "api-static:r"],
+                            "speed_rpm": [948.0, 726.0], "amplitude": [1e-6, 2e-6],
+                            "amplification_factor": [np.nan, 5.54], "separation_margin_pct": [68.4, 75.8],
+                            "required_margin_pct": [np.nan, 12.8], "verdict": ["not evaluated", "pass"]})
+    html = margins_table(margins)
+    headers, rows = _cells(html)
+    af, required = headers.index("AF [-]"), headers.index("required margin [%]")
+    assert (rows[0][af], rows[0][required]) == ("unknown*", "unknown*")
+    assert (rows[1][af], rows[1][required]) == ("5.54", "12.8")
+    assert "* AF unknown: the amplitude does not fall to peak/&radic;2 on both sides" in html
+    assert "AF unknown" not in margins_table(margins.iloc[1:])        # no note where every AF is known

@@ -78,3 +78,24 @@ def test_af_rows_not_evaluated_say_why():
     assert (rows[1][af], rows[1][required]) == ("5.54", "12.8")
     assert "* AF unknown: the amplitude does not fall to peak/&radic;2 on both sides" in html
     assert "AF unknown" not in margins_table(margins.iloc[1:])        # no note where every AF is known
+
+
+def _shaft_rows(name: str):
+    from rotordyn_modal.report import render
+
+    model = load_model(EXAMPLES / f"{name}.toml")
+    data = report_collect.ReportData(ReportInputs("api684", 3000 * np.pi / 30), model, {}, ("static",))
+    report_collect._static(data)
+    html = render._static(data, "si")
+    return _cells(html[html.index("Flexible shafts"):])[1]
+
+
+def test_a_quantity_zero_along_the_whole_shaft_names_no_station():
+    """examples/compressor_rotor.toml has no gravity: every quantity is 0 along its shaft, and the
+    table named 'n0, x = 0' as where the largest is (the summary already said '(no static load)');
+    flexible_pump_on_mounts carries no torque: its torque row named n0 likewise."""
+    rows = _shaft_rows("compressor_rotor")
+    assert len(rows) == 6 and all((r[2], r[3], r[4]) == ("0", "none (0 everywhere)", "") for r in rows), rows
+    rows = {r[1].split(" [")[0]: r for r in _shaft_rows("flexible_pump_on_mounts")}
+    assert rows["largest torque"][3] == "none (0 everywhere)"
+    assert rows["largest sag"][3] == "n0" and float(rows["largest sag"][2]) > 0      # a loaded shaft names it

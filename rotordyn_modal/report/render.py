@@ -245,8 +245,10 @@ def _shaft_statics(result, units) -> list:
                                ("stress", "bending stress"), ("torque", "torque"), ("von_mises", "von Mises stress")):
             factor, unit = scales[{"torque": "moment", "von_mises": "stress"}.get(quantity, quantity)]
             value, i = shaft.largest(quantity)
-            rows.append([shaft.rotor, f"largest {what} [{unit}]", _g(value * factor),
-                         shaft.label(i, quantity), f"{shaft.axis_names[2]} = {_g(shaft.position[i] * to_length)}"])
+            # 0 everywhere (no static load, no torque): no station governs, none is named
+            where = ([shaft.label(i, quantity), f"{shaft.axis_names[2]} = {_g(shaft.position[i] * to_length)}"]
+                     if value != 0 else ["none (0 everywhere)", ""])
+            rows.append([shaft.rotor, f"largest {what} [{unit}]", _g(value * factor), *where])
     return ["<h3>Flexible shafts: sag, shear force, bending moment and stress</h3>",
             "<p>Stresses at the outer fibre of the section: bending <i>&sigma; = M c / I</i>, torsion "
             "<i>&tau; = T c / J</i> (the torque of the loads' moments about the spin axis; none without "

@@ -463,14 +463,15 @@ def _unbalance(data, units) -> str:
                      "of every panel with their AF and separation margin from the operating range (the probes' peaks "
                      "are judged in the table of section Campbell diagram and critical speeds); API 617 probe limits (informative in an ISO report) "
                      "and the ISO zones where checked.", "Unbalance response")]
-    table = checks.to_dataframe()
-    table = table[table["check"] == "API 617 probe limit"]
+    from .collect import probe_limit_table
+
+    table = probe_limit_table(data)
     if data.inputs.standard != "iso":
         factor, unit = shown_scale("vibration", units)
         shown = "" if chosen == "pk-pk" else f"; shown {amplitude_label(chosen)} below (x {from_pkpk(chosen):.4g})"
         parts.append(f"<h3>API 617 probe vibration limit</h3><p>A1 = {25.4e-6 * factor:.3g} {unit} sqrt(12000/N), "
                      f"at most {25.4e-6 * factor:.3g} {unit} peak-to-peak, N the probe's rotor's MCS [rpm]; largest "
-                     f"over 0 to MCS{shown}.</p>")
+                     f"over 0 to MCS, the peaks the AF table found between swept speeds included{shown}.</p>")
         parts.append(_check_table(table, factor * from_pkpk(chosen), f"{unit} {AMPLITUDE_WORDS[chosen]}")
                      if not table.empty else
                      "<p>No proximity probe (measure = \"relative\") in the model.</p>")

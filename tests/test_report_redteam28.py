@@ -129,3 +129,18 @@ def test_probe_limit_takes_the_peak_found_between_swept_speeds():
     assert before.value < 0.8 * truth                                        # the swept largest misses the top
     assert row.value >= truth * (1 - 1e-4) and row.value <= truth * (1 + 1e-3), (row.value, truth)
     assert row.verdict == ("pass" if row.value <= row.limit else "fail")
+
+
+def test_level2_note_names_the_criterion_that_requires_it():
+    """compressor_rotor's API 617 report: 'Q0/Qa 6.12 >= 2 pass' carried the note 'Level II
+    required' (the log decrement at Qa, 0.0815 < 0.1, requires it): the note names which."""
+    from types import SimpleNamespace
+
+    for log_dec, ratio, csr, expected in ((False, True, True, "Level II required (by the log decrement at Qa)"),
+                                          (True, False, True, "Level II required (by Q0/Qa)"),
+                                          (False, False, True, "Level II required (by the log decrement at Qa and Q0/Qa)"),
+                                          (True, True, False, "Level II required (by the critical speed ratio)"),
+                                          (True, True, True, "Level II not required")):
+        result = SimpleNamespace(passes_log_decrement=log_dec, passes_ratio=ratio, passes_csr=csr,
+                                 level2_required=not (log_dec and ratio and csr))
+        assert report_collect._level2_note(result) == expected

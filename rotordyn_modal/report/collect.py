@@ -1064,7 +1064,7 @@ def _level1(data):
                                       quantities=[("why", "Qa = {0:.4g} {unit}", "stiffness", (result.qa,))]))
     data.criteria.append(Criterion("API 617 Level I: Q0/Qa", ratio, f">= {result.ratio_criterion:g}",
                                    "pass" if result.passes_ratio else "fail", "level1",
-                                   "Level II required" if result.level2_required else "Level II not required"))
+                                   _level2_note(result)))
     if result.csr is not None:
         _csr_criterion(data, result)
 
@@ -1108,6 +1108,18 @@ def _iso(data):
         name, verdict, "iso", f"governing: {worst.output} at {rpm_text(worst.speed_rpm)} rpm; {iso_span(checks)}",
         quantities=[("value", "{0:.3g} {unit} RMS (zone %s)" % worst.zone, "velocity", (worst.value,)),
                     ("limit", "<= {0:.3g} {unit} RMS (zone B)", "velocity", (worst.limit,))]))
+
+
+def _level2_note(result) -> str:
+    """Whether API 617 Level II is required and, where it is, which criterion requires it: the
+    note sits on the Q0/Qa row, which may pass while the log decrement fails (compressor_rotor:
+    Q0/Qa 6.12 'pass' beside 'Level II required')."""
+    if not result.level2_required:
+        return "Level II not required"
+    why = [what for what, passes in (("the log decrement at Qa", result.passes_log_decrement),
+                                     ("Q0/Qa", result.passes_ratio),
+                                     ("the critical speed ratio", result.passes_csr)) if not passes]
+    return f"Level II required (by {' and '.join(why)})" if why else "Level II required"
 
 
 def iso_span(checks) -> str:

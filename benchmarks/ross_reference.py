@@ -28,6 +28,14 @@ diametral inertia, node positions), the lateral modes of ``run_modal(speed, spar
   speed), with a cross-coupled stiffness that grows with speed (negative log decrements above
   an onset).
 
+* ``friswell_5_9_4``, ``ball_roller_mixed``, ``damping_geometry``, ``tables_linear_tapered``
+  (``tests/test_ross_more28.py``): Friswell's Example 5.9.4 as ROSS's tests build it (disks
+  from geometry, kxy alone); ball and roller bearings with two materials (one by Poisson's
+  ratio), a hollow span and two disks on one node; ``rotor_example_with_damping``'s 33
+  unequal elements and inboard bearings without its proportional damping; Euler-Bernoulli
+  tapered hollow elements with tables not linear in speed saved with ``interpolation="linear"``
+  (a bearing with ``kzz``, a seal over ``frequency``), so both codes agree between table speeds.
+
 ``rotor_example_with_damping.toml`` is saved too, without results: its proportional damping
 (``alpha``, ``beta``) is what the reader refuses.
 """
@@ -131,6 +139,74 @@ def bearing_and_seal():
     return rs.Rotor(shaft, disks, bearings)
 
 
+# redteam28 (issue 28): four more rotors, tests/test_ross_more28.py
+
+def friswell_5_9_4():
+    """ROSS tests/test_examples.py rotor_example6(6): Friswell 5.9.4, kxy = 5e5 only, disks from geometry."""
+    n_el = 6
+    shaft = [rs.ShaftElement(L=1.5 / n_el, material=rs.materials.steel, n=i, idl=0, odl=0.05) for i in range(n_el)]
+    d0 = rs.DiskElement.from_geometry(n=int(n_el / 1.5 * 0.5), material=rs.materials.steel, width=0.07, i_d=0.05, o_d=0.28)
+    d1 = rs.DiskElement.from_geometry(n=int(n_el / 1.5), material=rs.materials.steel, width=0.07, i_d=0.05, o_d=0.35)
+    b0 = rs.BearingElement(n=0, kxx=1e6, kyy=1e6, cxx=0, kxy=5e5, cyy=0)
+    b1 = rs.BearingElement(n=n_el, kxx=1e6, kyy=1e6, cxx=0, kxy=5e5, cyy=0)
+    return rs.Rotor(shaft, [d0, d1], [b0, b1])
+
+
+def ball_roller_mixed():
+    """Ball and roller bearings (ROSS computes their coefficients), two materials (one given by
+    Poisson), a hollow section, two disks on one node, a disk from geometry."""
+    alu = rs.Material(name="alu_p", rho=2700.0, E=7.0e10, Poisson=0.33)
+    shaft = [rs.ShaftElement(0.1, 0.0, 0.05, material=rs.materials.steel, n=i) for i in range(3)]
+    shaft += [rs.ShaftElement(0.12, 0.02, 0.06, material=alu, n=3 + i) for i in range(3)]
+    shaft += [rs.ShaftElement(0.1, 0.0, 0.05, material=rs.materials.steel, n=6 + i) for i in range(3)]
+    disks = [rs.DiskElement.from_geometry(n=2, material=rs.materials.steel, width=0.05, i_d=0.05, o_d=0.25, tag="g"),
+             rs.DiskElement(n=5, m=3.0, Id=0.01, Ip=0.018, tag="a"),
+             rs.DiskElement(n=5, m=1.5, Id=0.004, Ip=0.007, tag="b")]
+    bearings = [rs.BallBearingElement(n=1, n_balls=8, d_balls=0.012, fs=400.0, alpha=np.pi / 9, tag="ball"),
+                rs.RollerBearingElement(n=8, n_rollers=10, l_rollers=0.015, fs=600.0, alpha=0.0, tag="roller")]
+    return rs.Rotor(shaft, disks, bearings)
+
+
+def damping_geometry():
+    """ROSS's rotor_example_with_damping without its proportional damping (alpha = beta = 0):
+    33 unequal elements, bearings inboard at nodes 4 and 31 (overhung ends), kyy/kxx = 115."""
+    steel2 = rs.Material(name="Steel2", rho=7850, E=2.17e11, G_s=81.2e9)
+    pos = np.array([0, 25, 64, 104, 124, 143, 175, 207, 239, 271, 303, 335, 345, 355, 380, 408, 436,
+                    466, 496, 526, 556, 586, 614, 647, 657, 667, 702, 737, 772, 807, 842, 862, 881, 914]) * 1e-3
+    shaft = [rs.ShaftElement(l, 0, 0.019, material=steel2, rotary_inertia=True, shear_effects=True)
+             for l in np.diff(pos)]
+    m, Id, Ip = 2.6375, 0.003844540885417, 0.007513248437500
+    disks = [rs.DiskElement(n=12, m=m, Id=Id, Ip=Ip), rs.DiskElement(n=24, m=m, Id=Id, Ip=Ip)]
+    b0 = rs.BearingElement(n=4, kxx=4.40e5, kyy=4.6114e5, cxx=27.4, cyy=2.505, kzz=0, czz=0)
+    b1 = rs.BearingElement(n=31, kxx=9.50e5, kyy=1.09e8, cxx=50.4, cyy=100.4553, kzz=0, czz=0)
+    return rs.Rotor(shaft, disks, [b0, b1])
+
+
+#: the table speeds of tables_linear_tapered [rad/s]
+SPEED = np.array([0.0, 300.0, 700.0, 1200.0, 2000.0])
+
+
+def tables_linear_tapered():
+    """Euler-Bernoulli, tapered hollow elements; a bearing whose tables are NOT linear in speed,
+    with interpolation='linear' (so between table speeds both codes interpolate linearly), a
+    seal with cross-coupling on a frequency axis, a bearing with axial stiffness kzz."""
+    mat = rs.Material(name="steel_q", rho=7850.0, E=2.1e11, G_s=8.1e10)
+    geo = [(0.08, 0.0, 0.04, 0.0, 0.04), (0.08, 0.0, 0.04, 0.01, 0.06), (0.10, 0.01, 0.06, 0.01, 0.06),
+           (0.10, 0.01, 0.06, 0.01, 0.06), (0.10, 0.01, 0.06, 0.0, 0.045), (0.08, 0.0, 0.045, 0.0, 0.045),
+           (0.08, 0.0, 0.045, 0.0, 0.045)]
+    shaft = [rs.ShaftElement(L, idl, odl, idr, odr, material=mat, shear_effects=False) for L, idl, odl, idr, odr in geo]
+    disks = [rs.DiskElement(n=3, m=7.0, Id=0.03, Ip=0.05), rs.DiskElement(n=7, m=2.0, Id=0.004, Ip=0.006)]
+    k = 2e7 * (1 + 0.5 * np.sqrt(SPEED / 2000.0))
+    bearing = rs.BearingElement(n=1, kxx=k, kyy=1.3 * k, kxy=0.1 * k, kyx=-0.12 * k, cxx=800.0 - 0.1 * SPEED,
+                                cyy=900.0 - 0.05 * SPEED ** 1.2 / 10, speed=SPEED, interpolation="linear",
+                                kzz=1e7, czz=0.0, tag="tab")
+    seal = rs.SealElement(n=5, kxx=3e6 + 1e3 * SPEED, kyy=3e6 + 1e3 * SPEED, kxy=2e3 * SPEED, kyx=-2e3 * SPEED,
+                          cxx=200.0 + 0 * SPEED, cyy=200.0 + 0 * SPEED, frequency=SPEED, interpolation="linear",
+                          tag="seal")
+    b2 = rs.BearingElement(n=6, kxx=1.5e7, kyy=1.5e7, cxx=500.0, tag="plain")
+    return rs.Rotor(shaft, disks, [bearing, seal, b2])
+
+
 #: name: (builder, speeds [rad/s] of run_modal, unbalance node, unbalance speeds [rad/s])
 ROTORS = {
     "rotor_example": (rs.rotor_example, [0.0, 300.0, 1000.0, 3000.0],
@@ -143,6 +219,11 @@ ROTORS = {
     "tapered_hollow": (tapered_hollow, [0.0, 500.0, 1500.0, 3000.0], 3, [100.0, 400.0, 900.0, 1500.0]),
     "speed_tables": (speed_tables, [0.0, 400.0, 1000.0, 1600.0], 10, [100.0, 300.0, 700.0, 1200.0]),
     "bearing_and_seal": (bearing_and_seal, [0.0, 500.0, 1500.0, 3000.0], 7, [100.0, 400.0, 900.0, 1500.0]),
+    "friswell_5_9_4": (friswell_5_9_4, [0.0, 100.0, 200.0, 300.0, 4000 * np.pi / 30, 600.0, 800.0], 4, [50.0, 86.0, 150.0, 300.0, 600.0]),
+    "ball_roller_mixed": (ball_roller_mixed, [0.0, 500.0, 1000.0, 1500.0, 2000.0, 3000.0], 5, [100.0, 400.0, 900.0, 1500.0]),
+    "damping_geometry": (damping_geometry, [0.0, 50.0, 100.0, 200.0, 300.0, 450.0, 600.0], 12, [30.0, 90.0, 200.0, 400.0]),
+    "tables_linear_tapered": (tables_linear_tapered, [0.0, 75.0, 150.0, 300.0, 500.0, 700.0, 950.0, 1200.0, 1450.0, 1700.0, 2000.0], 3,
+                              [100.0, 450.0, 700.0, 1500.0]),
 }
 
 

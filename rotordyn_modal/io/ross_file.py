@@ -94,8 +94,10 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
     disks = _disks(source, elements.get("DiskElement", []), node_z)
     if disks:
         rotor["disks"] = disks
-    bearings = [_bearing(source, key, table, node_z, rotor_name)
+    pchip: list = []
+    bearings = [_bearing(source, key, table, node_z, rotor_name, pchip)
                 for cls in BEARING_CLASSES for key, table in elements.get(cls, [])]
+    _warn_pchip(source, pchip)
     bearings.sort(key=lambda b: b["axial_position"])
     version = data.get("ross_version", "unknown")
     origin = (f"file {shown_text(Path(source).name)}" if named else
@@ -385,12 +387,16 @@ def _disks(source: str, disks: list, node_z: list) -> list:
     return sorted(found.values(), key=lambda d: d["axial_position"])
 
 
-def _bearing(source: str, key: str, table: dict, node_z: list, rotor: str) -> dict:
-    """A bearing (or seal) of ROSS: its coefficients, constant or tabulated over speed."""
+def _bearing(source: str, key: str, table: dict, node_z: list, rotor: str, pchip: list) -> dict:
+    """A bearing (or seal) of ROSS: its coefficients, constant or tabulated over speed; appends
+    to ``pchip`` where ROSS's PCHIP interpolation of its table differs from the linear one
+    (:func:`_pchip_difference`)."""
     if table.get("n_link") is not None:
         raise ModelError(source, f"[{key}] n_link", table["n_link"],
                          "none: a bearing linked to a support mass (pedestal) is not read")
     speeds, values = _coefficient_tables(source, key, table)
+    if len(speeds) > 2:
+        pchip.extend(_pchip_difference(source, key, table, speeds, values))
     bearing = {"name": str(table.get("tag", key.partition("_")[2])), "rotor": rotor,
                "axial_position": _node(source, key, table, node_z)}
     if len(speeds) > 1:
@@ -428,6 +434,47 @@ def _coefficient_tables(source: str, key: str, table: dict) -> tuple[list, dict]
     if count > 1 and all(len(set(v)) == 1 for v in values.values()):
         return [], {name: v[:1] for name, v in values.items()}  # constant over the table
     return (speeds if count > 1 else []), values
+
+
+def _pchip_difference(source: str, key: str, table: dict, speeds: list, values: dict) -> list:
+    """Where ROSS's PCHIP interpolation of a table of 3 or more speeds (``interpolation =
+    "pchip"``, ROSS's default; ``"linear"`` is what this package does) differs from the linear
+    one between the table's speeds: ``[(difference, key, coefficient, speed [rad/s])]`` for the
+    largest difference at an interval's midpoint relative to the coefficient's largest magnitude
+    in the table (above 1e-9), else ``[]``."""
+    method = table.get("interpolation", "pchip")
+    if method not in ("pchip", "linear"):
+        raise ModelError(source, f"[{key}] interpolation", method, "'pchip' or 'linear' (ROSS 3.1's methods)")
+    if method == "linear":
+        return []
+    from scipy.interpolate import PchipInterpolator
+
+    axis = [float(s) for s in speeds]
+    middle = [(a + b) / 2.0 for a, b in zip(axis, axis[1:])]
+    worst = (0.0, "", 0.0)
+    for name, column in values.items():
+        scale = max(abs(v) for v in column)
+        if scale == 0.0:
+            continue
+        cubic = PchipInterpolator(axis, column)(middle)
+        linear = [(a + b) / 2.0 for a, b in zip(column, column[1:])]
+        for speed, c, lin in zip(middle, cubic, linear):
+            if abs(c - lin) / scale > worst[0]:
+                worst = (abs(c - lin) / scale, name, speed)
+    return [(worst[0], key, worst[1], worst[2])] if worst[0] > 1e-9 else []
+
+
+def _warn_pchip(source: str, found: list) -> None:
+    """One warning for the tables of ``found`` (:func:`_pchip_difference`), naming the largest."""
+    if not found:
+        return
+    size, key, name, speed = max(found)
+    tables = "1 table" if len(found) == 1 else f"{len(found)} tables"
+    warnings.warn(f"{shown_text(source)}: {tables} interpolated with PCHIP by ROSS (interpolation = 'pchip') "
+                  "and linearly here: between their speeds the coefficients differ (equal at the table "
+                  f"speeds), the most [{key}] {name} by {size:.2g} of its largest value at {speed:.6g} rad/s "
+                  "(compare at table speeds, or save the ROSS bearings with interpolation='linear'; "
+                  "docs/ross.md)", ModelWarning, stacklevel=3)
 
 
 def _values(source: str, key: str, table: dict, name: str, count: int, axis_text: str) -> list:

@@ -185,7 +185,10 @@ def _static(data, units) -> str:
     shown = result.displacements()
     (to_sag, sag_unit), (to_force, force_unit) = shown_scale("sag", units), shown_scale("force", units)
     sag = _at_round_off(shown[["ux_m", "uy_m", "uz_m"]].to_numpy()) * to_sag
-    rows = [[r.body, r.point, *(_g(v) for v in values)] for r, values in zip(shown.itertuples(), sag)]
+    frame = len(data.model.suspensions) + 1 if data.model.dofs.n_frame else 0   # the stator's rows come first
+    inside = "stator" if data.model.stator is not None else "frame" if frame else "ground"
+    rows = [[r.body, r.point, "ground" if i < frame else inside, *(_g(v) for v in values)]
+            for i, (r, values) in enumerate(zip(shown.itertuples(), sag))]
     reactions = result.reactions_table()
     forces = _at_round_off(reactions[["Fx_N", "Fy_N", "Fz_N"]].to_numpy()) * to_force
     # a journal bearing's true position at its load: the film's eccentricity and attitude angle
@@ -202,7 +205,8 @@ def _static(data, units) -> str:
         f"({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their stiffness at that speed (docs/static.md).</p>",
         *([] if gravity else [_NO_GRAVITY]),
         "<h3>Static displacement (sag)</h3>",
-        _table(rows, [("body", True), ("point", True), *((f"u_{a} [{sag_unit}]", False) for a in "xyz")]),
+        _table(rows, [("body", True), ("point", True), ("relative to", True),
+                      *((f"u_{a} [{sag_unit}]", False) for a in "xyz")]),
         *([_JOURNAL_NOTE] if journals else []),
         "<h3>Reactions (force of each support on the body it carries)</h3>",
         _table(rrows, [("support", True), ("kind", True), ("body", True), ("on", True),
@@ -241,8 +245,10 @@ def _shaft_statics(result, units) -> list:
                                ("stress", "bending stress"), ("torque", "torque"), ("von_mises", "von Mises stress")):
             factor, unit = scales[{"torque": "moment", "von_mises": "stress"}.get(quantity, quantity)]
             value, i = shaft.largest(quantity)
-            rows.append([shaft.rotor, f"largest {what} [{unit}]", _g(value * factor),
-                         shaft.label(i, quantity), f"{shaft.axis_names[2]} = {_g(shaft.position[i] * to_length)}"])
+            # 0 everywhere (no static load, no torque): no station governs, none is named
+            where = ([shaft.label(i, quantity), f"{shaft.axis_names[2]} = {_g(shaft.position[i] * to_length)}"]
+                     if value != 0 else ["none (0 everywhere)", ""])
+            rows.append([shaft.rotor, f"largest {what} [{unit}]", _g(value * factor), *where])
     return ["<h3>Flexible shafts: sag, shear force, bending moment and stress</h3>",
             "<p>Stresses at the outer fibre of the section: bending <i>&sigma; = M c / I</i>, torsion "
             "<i>&tau; = T c / J</i> (the torque of the loads' moments about the spin axis; none without "
@@ -349,12 +355,19 @@ def margins_table(margins, units: str = "si", amplitude: str = "pk-pk") -> str:
     to_vibration, vibration = shown_scale("vibration", units)
     to_vibration *= amplitude_factor(amplitude)                     # the table holds 0-peak amplitudes
     rows = [[r.output, r.case if has_case else r.source, _g(r.speed_rpm, 6), _g(r.amplitude * to_vibration),
-             _g(r.amplification_factor, 3), _g(r.separation_margin_pct, 3), _g(r.required_margin_pct, 3),
-             _verdict_cell(r.verdict)] for r in margins.itertuples()]
+             _g(r.amplification_factor, 3) or "unknown*", _g(r.separation_margin_pct, 3),
+             _g(r.required_margin_pct, 3) or "unknown*", _verdict_cell(r.verdict)] for r in margins.itertuples()]
+    unknown = not np.all(np.isfinite(np.asarray(margins["amplification_factor"], dtype=float)))
     return _table(rows, [("output", True), ("case" if has_case else "source (1X of)", True),
                          ("peak speed [rpm]", False), (f"amplitude, {amplitude_label(amplitude)} [{vibration}]", False),
                          ("AF [-]", False), ("separation margin [%]", False), ("required margin [%]", False),
-                         ("verdict", True)])
+                         ("verdict", True)]) + (_AF_UNKNOWN if unknown else "")
+
+
+#: under the AF table where a peak's AF is unknown (its rows "not evaluated")
+_AF_UNKNOWN = ('<p class="note">* AF unknown: the amplitude does not fall to peak/&radic;2 on both sides of '
+               "the peak within the sweep (a half-power point lies beyond its ends or past a neighbouring "
+               "peak), so neither the required margin nor the verdict can be set (docs/standards.md).</p>")
 
 
 #: a damping ratio or log decrement below this is the round-off of an undamped mode
@@ -450,14 +463,15 @@ def _unbalance(data, units) -> str:
                      "of every panel with their AF and separation margin from the operating range (the probes' peaks "
                      "are judged in the table of section Campbell diagram and critical speeds); API 617 probe limits (informative in an ISO report) "
                      "and the ISO zones where checked.", "Unbalance response")]
-    table = checks.to_dataframe()
-    table = table[table["check"] == "API 617 probe limit"]
+    from .collect import probe_limit_table
+
+    table = probe_limit_table(data)
     if data.inputs.standard != "iso":
         factor, unit = shown_scale("vibration", units)
         shown = "" if chosen == "pk-pk" else f"; shown {amplitude_label(chosen)} below (x {from_pkpk(chosen):.4g})"
         parts.append(f"<h3>API 617 probe vibration limit</h3><p>A1 = {25.4e-6 * factor:.3g} {unit} sqrt(12000/N), "
                      f"at most {25.4e-6 * factor:.3g} {unit} peak-to-peak, N the probe's rotor's MCS [rpm]; largest "
-                     f"over 0 to MCS{shown}.</p>")
+                     f"over 0 to MCS, the peaks the AF table found between swept speeds included{shown}.</p>")
         parts.append(_check_table(table, factor * from_pkpk(chosen), f"{unit} {AMPLITUDE_WORDS[chosen]}")
                      if not table.empty else
                      "<p>No proximity probe (measure = \"relative\") in the model.</p>")

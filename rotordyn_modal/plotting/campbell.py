@@ -942,7 +942,8 @@ class _CampbellLabels:
         def cost(box):
             start = nearest_in(box, anchor)
             return distance(box) \
-                + _CROSSING_COST * h / self.to_v * self.curves.crossings(start, anchor, keep)
+                + _CROSSING_COST * h / self.to_v * max(self.curves.crossings(start, anchor, keep),
+                                                       self._mode_curves().cut(start, anchor, circle))
 
         def distance(box):
             return box_distance(box * to_px, u / self.to_u, v / self.to_v)

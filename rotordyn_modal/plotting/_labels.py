@@ -1070,8 +1070,9 @@ _MARKER_POINTS = 3.0
 _GRID_ROWS, _GRID_COLUMNS = 8, 2
 #: ... and, where no such box is clear of the curves, this many (farther, above the curves)
 _FAR_ROWS, _FAR_COLUMNS = 24, 4
-#: ... with rows this many times closer than a label's height and gap: the fan's UCS map had room
-#: for '3943' between mode 8's line and mode 6's above it, 5 to 15 pixels up, that no row met
+#: ... with rows this many times closer than a label's height and gap, where every label is
+#: written (``crossing``): the fan's UCS map had room for '3943' between mode 8's line and mode
+#: 6's above it, 5 to 15 pixels up, that no row met
 _ROW_SPLIT = 3
 #: labels with fewer boxes than this whose leaders cross no curve are placed first, fewest first
 _FREEDOM = 16
@@ -1146,7 +1147,9 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     heights for each curve its leader line crosses; a leader line joins the box's point
     nearest the anchor to the anchor. Labels crowded at one point so fan out in columns
     beside it. A label with no free box, or whose leader crosses curves at a cost above
-    :data:`_MOST_COST` label heights, is left out: give the anchors most important first.
+    :data:`_MOST_COST` label heights, is left out: give the anchors most important first. With
+    ``crossing``, the labels that have a box whose leader neither crosses nor runs along a curve
+    take such boxes first, those with fewest first; the others follow, in the order given.
 
     Parameters
     ----------
@@ -1185,14 +1188,18 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
         if frame.x0 <= px <= frame.x1 and frame.y0 <= py <= frame.y1:
             w, h = text_size(fig, text, fontsize, renderer)
             jobs[k] = (boxes_around(px, py, w, h, pad, marker, _FAR_ROWS, _FAR_COLUMNS, across=not crossing,
-                                    split=_ROW_SPLIT), (px, py), h)
-    # first the boxes whose leaders cross no curve, the labels with fewest such boxes first, then
-    # the others in the order given: the fan's UCS map gave '3394' the one such box of '3644', two
-    # circles 5 pixels apart, and '3644' a leader across mode 8
-    freedom = {k: _leader_box(*job, placed, (pad, inner), ([], []), curves, ANCHOR_POINTS * points, crossing,
-                              stage="count") for k, job in jobs.items()}
+                                    split=_ROW_SPLIT if crossing else 1), (px, py), h)
+    # where every label is written (``crossing``): first the boxes whose leaders cross no curve,
+    # the labels with fewest such boxes first, then the others in the order given (the fan's UCS
+    # map gave '3394' the one such box of '3644', two circles 5 pixels apart, and '3644' a leader
+    # across mode 8); else each label in the order given, the most important first
+    stages = [("both", sorted(jobs))]
+    if crossing:
+        freedom = {k: _leader_box(*job, placed, (pad, inner), ([], []), curves, ANCHOR_POINTS * points, crossing,
+                                  stage="count") for k, job in jobs.items()}
+        stages = [("plain", sorted(jobs, key=lambda k: (freedom[k], k))), ("fallback", sorted(jobs))]
     boxes = {}
-    for stage, order in (("plain", sorted(jobs, key=lambda k: (freedom[k], k))), ("fallback", sorted(jobs))):
+    for stage, order in stages:
         for k in order:
             if k in boxes:
                 continue

@@ -582,10 +582,10 @@ class CurveMap:
         beyond = centres @ outward.T - np.sum(corners * outward, axis=1)
         return not np.any(np.all(beyond <= self.cell, axis=1))
 
-    def crossings(self, start, end, keep=None, into_keep=True) -> int:
+    def crossings(self, start, end, keep=None) -> int:
         """How many curves the segment ``start -> end`` crosses (runs of marked cells along it),
-        those inside ``keep`` not counted; without ``into_keep``, nor a run that goes on into
-        ``keep`` (a curve through the anchor that the leader runs beside up to it)."""
+        those inside ``keep`` not counted (curves a few cells apart count as one: :meth:`cut`
+        counts them exactly)."""
         if self.units == "axes":
             start, end = ((self.origin[0] + p[0] * self.size[0], self.origin[1] + p[1] * self.size[1])
                           for p in (start, end))
@@ -601,13 +601,8 @@ class CurveMap:
         marked[marked] = self.grid[j[marked], i[marked]]
         if keep is not None:
             inside = (x >= keep[0]) & (x <= keep[2]) & (y >= keep[1]) & (y <= keep[3])
-            if not into_keep:
-                touching = marked & np.r_[inside[1:], False] | marked & np.r_[False, inside[:-1]]
-                runs = np.cumsum(np.r_[marked[0], marked[1:] & ~marked[:-1]]) * marked
-                marked &= ~np.isin(runs, runs[touching])
             marked &= ~inside
         return int(np.count_nonzero(marked[1:] & ~marked[:-1]) + marked[0])
-
 
     def cut(self, start, end, keep=None) -> int:
         """How many pieces of curve the segment ``start -> end`` crosses outside the box ``keep``

@@ -60,7 +60,9 @@ def test_the_compressor_critical_speed_labels_cross_no_modes_curve(speeds):
     (the placer's grid of curves merged the three lines into one run, read as the circle's own),
     where the 23 pixels below right, between modes 3 and 2, held the label (no row of boxes met
     that gap). On the drawn figure: '11115' is labelled and its leader crosses no mode's curve
-    beyond its circle; on the 121-speed grid (figs27o's) no leader does."""
+    beyond its circle (on figs27o's grid of 121 speeds, no leader does), and every critical
+    speed is read in a label or in the note of those left out ('14388', whose only boxes hang
+    across modes 3 and 4, is listed there)."""
     import matplotlib.pyplot as plt
 
     model = rdm.load_model(EXAMPLES / "compressor_rotor.toml")
@@ -77,6 +79,11 @@ def test_the_compressor_critical_speed_labels_cross_no_modes_curve(speeds):
     assert not any(np.hypot(*(np.array(a) - eleven)) < 2 for a in crossed), crossed
     if speeds[2] == 121:
         assert not crossed, crossed
+    # each critical speed is read somewhere: its label, or the note listing those left out
+    words = {w for t in labels for w in t.get_text().split("/")}
+    note = " ".join(t.get_text() for t in ax.texts if t.get_gid() == "critical-note" and t.get_visible())
+    for speed in result.critical.speeds * 30 / np.pi:
+        assert f"{speed:.0f}" in words or f"{speed:.0f}" in note, (speed, words, note)
     plt.close(fig)
 
 

@@ -609,8 +609,9 @@ class CurveMap:
         (a marker's): exact geometry on the curves' drawn segments, not the grid, on which curves
         closer than a few cells merge into one run (compressor_rotor's modes 3, 4 and 5, 4 to 7
         pixels apart: a leader from mode 3's circle across modes 4 and 5 counted as running
-        beside its own curve). A curve through the marker (its own) meets a leader aimed at the
-        marker only inside ``keep``."""
+        beside its own curve). ``keep`` is a marker's square: the leader is cut where it meets the
+        circle inside it (a curve through the square's corner, outside the circle, counts). A
+        curve through the marker (its own) meets a leader aimed at the marker only there."""
         to_px = np.array(self.size if self.units == "axes" else (1.0, 1.0))
         origin = np.array(self.origin if self.units == "axes" else (0.0, 0.0))
         p, q = origin + np.asarray(start, float) * to_px, origin + np.asarray(end, float) * to_px
@@ -705,18 +706,16 @@ def _curve_points(ax, skip, frame, cell):
 
 
 def _entry(start, end, box) -> float:
-    """Where [0, 1] the segment ``start -> end`` (ending inside ``box``) enters ``box``: 1 where
-    it never does."""
-    low, high = 0.0, 1.0
-    for d in (0, 1):
-        delta = end[d] - start[d]
-        if delta == 0.0:
-            if not box[d] <= start[d] <= box[d + 2]:
-                return 1.0
-            continue
-        a, b = sorted(((box[d] - start[d]) / delta, (box[d + 2] - start[d]) / delta))
-        low, high = max(low, a), min(high, b)
-    return low if low <= high else 1.0
+    """Where [0, 1] the segment ``start -> end`` enters the disc inscribed in the square ``box``
+    (a marker's circle): 1 where it never does."""
+    centre = np.array([box[0] + box[2], box[1] + box[3]]) / 2
+    radius = min(box[2] - box[0], box[3] - box[1]) / 2
+    d, f = np.asarray(end, float) - start, np.asarray(start, float) - centre
+    a, b, c = d @ d, 2 * f @ d, f @ f - radius ** 2
+    if a == 0.0 or b * b - 4 * a * c < 0.0:
+        return 1.0
+    t = (-b - np.sqrt(b * b - 4 * a * c)) / (2 * a)
+    return float(min(max(t, 0.0), 1.0))
 
 
 def _drawn_segments(ax, skip, frame):

@@ -528,6 +528,7 @@ class CurveMap:
         self.grid = grid
         self.table = np.zeros((height + 1, width + 1), np.int64)
         self.table[1:, 1:] = grid.cumsum(axis=0).cumsum(axis=1)
+        self._drawn, self._segments = (ax, skip, (frame.x0, frame.y0, frame.x1, frame.y1)), None
 
     def _cells(self, box):
         """Marked cells overlapping ``box`` widened by half a cell (a crossing between two samples)."""
@@ -581,10 +582,10 @@ class CurveMap:
         beyond = centres @ outward.T - np.sum(corners * outward, axis=1)
         return not np.any(np.all(beyond <= self.cell, axis=1))
 
-    def crossings(self, start, end, keep=None, into_keep=True) -> int:
+    def crossings(self, start, end, keep=None) -> int:
         """How many curves the segment ``start -> end`` crosses (runs of marked cells along it),
-        those inside ``keep`` not counted; without ``into_keep``, nor a run that goes on into
-        ``keep`` (a curve through the anchor that the leader runs beside up to it)."""
+        those inside ``keep`` not counted (curves a few cells apart count as one: :meth:`cut`
+        counts them exactly)."""
         if self.units == "axes":
             start, end = ((self.origin[0] + p[0] * self.size[0], self.origin[1] + p[1] * self.size[1])
                           for p in (start, end))
@@ -600,13 +601,36 @@ class CurveMap:
         marked[marked] = self.grid[j[marked], i[marked]]
         if keep is not None:
             inside = (x >= keep[0]) & (x <= keep[2]) & (y >= keep[1]) & (y <= keep[3])
-            if not into_keep:
-                touching = marked & np.r_[inside[1:], False] | marked & np.r_[False, inside[:-1]]
-                runs = np.cumsum(np.r_[marked[0], marked[1:] & ~marked[:-1]]) * marked
-                marked &= ~np.isin(runs, runs[touching])
             marked &= ~inside
         return int(np.count_nonzero(marked[1:] & ~marked[:-1]) + marked[0])
 
+    def cut(self, start, end, keep=None) -> int:
+        """How many pieces of curve the segment ``start -> end`` crosses outside the box ``keep``
+        (a marker's): exact geometry on the curves' drawn segments, not the grid, on which curves
+        closer than a few cells merge into one run (compressor_rotor's modes 3, 4 and 5, 4 to 7
+        pixels apart: a leader from mode 3's circle across modes 4 and 5 counted as running
+        beside its own curve). ``keep`` is a marker's square: the leader is cut where it meets the
+        circle inside it (a curve through the square's corner, outside the circle, counts). A
+        curve through the marker (its own) meets a leader aimed at the marker only there."""
+        to_px = np.array(self.size if self.units == "axes" else (1.0, 1.0))
+        origin = np.array(self.origin if self.units == "axes" else (0.0, 0.0))
+        p, q = origin + np.asarray(start, float) * to_px, origin + np.asarray(end, float) * to_px
+        if keep is not None:
+            keep = np.r_[origin + np.asarray(keep[:2], float) * to_px, origin + np.asarray(keep[2:], float) * to_px]
+            q = p + _entry(p, q, keep) * (q - p)
+        if self._segments is None:
+            ax, skip, frame = self._drawn
+            self._segments = _drawn_segments(ax, skip, frame)
+        others = self._segments
+        if not len(others) or np.allclose(p, q):
+            return 0
+        r, a, t = q - p, others[:, :2], others[:, 2:] - others[:, :2]
+        denominator = r[0] * t[:, 1] - r[1] * t[:, 0]
+        ap = a - p
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = (ap[:, 0] * t[:, 1] - ap[:, 1] * t[:, 0]) / denominator
+            v = (ap[:, 0] * r[1] - ap[:, 1] * r[0]) / denominator
+        return int(np.count_nonzero((denominator != 0) & (u >= 0) & (u <= 1) & (v >= 0) & (v < 1)))
 
     def along(self, start, end, keep=None) -> float:
         """How much of the segment ``start -> end`` runs on curves (its length on marked cells,
@@ -679,6 +703,43 @@ def _curve_points(ax, skip, frame, cell):
             stop = max(int(np.searchsorted(ends, ends[start] - steps[start] + _CHUNK, side="right")), start + 1)
             yield reach, _samples(segments[start:stop], steps[start:stop])
             start = stop
+
+
+def _entry(start, end, box) -> float:
+    """Where [0, 1] the segment ``start -> end`` enters the disc inscribed in the square ``box``
+    (a marker's circle): 1 where it never does."""
+    centre = np.array([box[0] + box[2], box[1] + box[3]]) / 2
+    radius = min(box[2] - box[0], box[3] - box[1]) / 2
+    d, f = np.asarray(end, float) - start, np.asarray(start, float) - centre
+    a, b, c = d @ d, 2 * f @ d, f @ f - radius ** 2
+    if a == 0.0 or b * b - 4 * a * c < 0.0:
+        return 1.0
+    t = (-b - np.sqrt(b * b - 4 * a * c)) / (2 * a)
+    return float(min(max(t, 0.0), 1.0))
+
+
+def _drawn_segments(ax, skip, frame):
+    """Segments ``(n, 4)`` [pixels] of the visible lines (with a line style) and line
+    collections of ``ax`` but ``skip``, clipped to ``frame``."""
+    from matplotlib.collections import LineCollection
+
+    paths = []
+    for line in ax.get_lines():
+        if line in skip or not line.get_visible() or line.get_linestyle() in ("None", "", " ") \
+                or line.get_linewidth() == 0:
+            continue
+        xy = np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
+        if len(xy) > 1:
+            with np.errstate(all="ignore"):
+                paths.append(line.get_transform().transform(xy))
+    for collection in ax.collections:
+        if isinstance(collection, LineCollection) and collection.get_visible() and collection not in skip:
+            transform = collection.get_transform()
+            paths += [transform.transform(path.vertices) for path in collection.get_paths() if len(path.vertices) > 1]
+    if not paths:
+        return np.zeros((0, 4))
+    segments = np.concatenate([np.hstack([d[:-1], d[1:]]) for d in paths])
+    return _clipped(segments[np.all(np.isfinite(segments), axis=1)], frame)
 
 
 def _samples(segments, steps):
@@ -1003,6 +1064,12 @@ _MARKER_POINTS = 3.0
 _GRID_ROWS, _GRID_COLUMNS = 8, 2
 #: ... and, where no such box is clear of the curves, this many (farther, above the curves)
 _FAR_ROWS, _FAR_COLUMNS = 24, 4
+#: ... with rows this many times closer than a label's height and gap, where every label is
+#: written (``crossing``): the fan's UCS map had room for '3943' between mode 8's line and mode
+#: 6's above it, 5 to 15 pixels up, that no row met
+_ROW_SPLIT = 3
+#: labels with fewer boxes than this whose leaders cross no curve are placed first, fewest first
+_FREEDOM = 16
 #: a leader line crossing a curve costs as much as this many label heights farther away
 _CROSSING_COST = 2.0
 #: a label whose leader crosses curves and costs more (label heights: its distance and its
@@ -1020,7 +1087,7 @@ _ALONG_COST = 2.0
 _BELOW = 2.0
 
 
-def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False):
+def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False, split=1):
     """Boxes of size ``w x h`` on a grid around the point ``(x, y)``, nearest first.
 
     Rows are centred on the point's height and a little more than ``pad`` apart (so that
@@ -1029,7 +1096,9 @@ def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS,
     the others'; with ``across``, also one centred on it, for a short straight leader up
     or down), half a label's width apart, reaching ``columns`` label widths each way,
     clear of the point's marker (half size ``clear``). Nearest is by the distance from the point to the box, those below the point
-    counted :data:`_BELOW` times; ties: above before below, right before left.
+    counted :data:`_BELOW` times; ties: above before below, right before left. With ``split``,
+    rows also at that many steps between (a gap between two curves a little more than a
+    label's height holds a box only where a row falls into it).
 
     Parameters
     ----------
@@ -1045,7 +1114,7 @@ def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS,
     lefts = np.column_stack([x + clear + pad + steps, x - clear - pad - w - steps]).ravel()
     if across:
         lefts = np.concatenate([[x - w / 2], lefts])
-    heights = np.array(sorted(range(-rows, rows + 1), key=lambda k: (abs(k), k < 0)), float)
+    heights = np.array(sorted(range(-rows * split, rows * split + 1), key=lambda k: (abs(k), k < 0)), float) / split
     bottoms = np.repeat(y - h / 2 + heights * (h + pad), len(lefts))
     lefts = np.tile(lefts, len(heights))
     boxes = np.column_stack([lefts, bottoms, lefts + w, bottoms + h])
@@ -1072,7 +1141,9 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     heights for each curve its leader line crosses; a leader line joins the box's point
     nearest the anchor to the anchor. Labels crowded at one point so fan out in columns
     beside it. A label with no free box, or whose leader crosses curves at a cost above
-    :data:`_MOST_COST` label heights, is left out: give the anchors most important first.
+    :data:`_MOST_COST` label heights, is left out: give the anchors most important first. With
+    ``crossing``, the labels that have a box whose leader neither crosses nor runs along a curve
+    take such boxes first, those with fewest first; the others follow, in the order given.
 
     Parameters
     ----------
@@ -1106,19 +1177,38 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     marker = _MARKER_POINTS * points
     placed = [(px - marker, py - marker, px + marker, py + marker) for px, py in pixels]   # keep the points free
     labels, leaders = [], []        # the boxes and leader lines drawn
+    jobs = {}
+    for k, ((px, py), text) in enumerate(zip(pixels, texts)):
+        if frame.x0 <= px <= frame.x1 and frame.y0 <= py <= frame.y1:
+            w, h = text_size(fig, text, fontsize, renderer)
+            jobs[k] = (boxes_around(px, py, w, h, pad, marker, _FAR_ROWS, _FAR_COLUMNS, across=not crossing,
+                                    split=_ROW_SPLIT if crossing else 1), (px, py), h)
+    # where every label is written (``crossing``): first the boxes whose leaders cross no curve,
+    # the labels with fewest such boxes first, then the others in the order given (the fan's UCS
+    # map gave '3394' the one such box of '3644', two circles 5 pixels apart, and '3644' a leader
+    # across mode 8); else each label in the order given, the most important first
+    stages = [("both", sorted(jobs))]
+    if crossing:
+        freedom = {k: _leader_box(*job, placed, (pad, inner), ([], []), curves, ANCHOR_POINTS * points, crossing,
+                                  stage="count") for k, job in jobs.items()}
+        stages = [("plain", sorted(jobs, key=lambda k: (freedom[k], k))), ("fallback", sorted(jobs))]
+    boxes = {}
+    for stage, order in stages:
+        for k in order:
+            if k in boxes:
+                continue
+            candidates, (px, py), h = jobs[k]
+            box = _leader_box(candidates, (px, py), h, placed, (pad, inner), (labels, leaders), curves,
+                              ANCHOR_POINTS * points, crossing, stage=stage)
+            if box is not None:
+                boxes[k] = box
+                labels.append(box)
+                leaders.append((nearest_in(box, (px, py)), (px, py)))
     drawn = []
-    for (x, y), (px, py), text, color in zip(anchors, pixels, texts, colors):
-        if not (frame.x0 <= px <= frame.x1 and frame.y0 <= py <= frame.y1):
-            continue
-        w, h = text_size(fig, text, fontsize, renderer)
-        candidates = boxes_around(px, py, w, h, pad, marker, _FAR_ROWS, _FAR_COLUMNS, across=not crossing)
-        box = _leader_box(candidates, (px, py), h, placed, (pad, inner), (labels, leaders), curves,
-                          ANCHOR_POINTS * points, crossing)
-        if box is None:
-            continue
+    for k in sorted(boxes):
+        (x, y), (px, py), text, color, box = anchors[k], pixels[k], texts[k], colors[k], boxes[k]
+        w, h = box[2] - box[0], box[3] - box[1]
         end = nearest_in(box, (px, py))
-        labels.append(box)
-        leaders.append((end, (px, py)))
         drawn.append(ax.annotate(text, (x, y), xytext=((box[0] - px) / points, (box[1] - py) / points),
                                  textcoords="offset points", ha="left", va="bottom", fontsize=fontsize,
                                  color=color, annotation_clip=True,
@@ -1129,13 +1219,16 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     return drawn
 
 
-def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossing=True):
+def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossing=True, stage="both"):
     """The box of ``candidates`` for a label of height ``h`` joined to ``point`` by a leader
     line, of least cost (:func:`place_point_labels`), or None.
 
     ``room`` is (gap, frame), ``drawn`` (label boxes, leader lines) drawn so far, ``keep``
     the half size of the square around ``point`` where curves may cross the label (and its
-    leader), ``crossing`` whether the leader may cross curves beyond it.
+    leader), ``crossing`` whether the leader may cross curves beyond it. ``stage``: 'plain'
+    only a box whose leader neither crosses nor runs along a curve, 'fallback' only the
+    others, 'both' the first where it has one, else the second; 'count' returns how many
+    plain boxes there are (up to :data:`_FREEDOM`, nothing placed).
     """
     labels, leaders = drawn
     square = anchor_box(*point, keep)
@@ -1166,14 +1259,17 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
 
     def plain(box):
         start = nearest_in(box, point)
-        return clear(box) and not curves.crossings(start, point, circle, into_keep=False) \
-            and curves.along(start, point, circle) <= 0.5 * h
+        return clear(box) and not curves.cut(start, point, circle) and curves.along(start, point, circle) <= 0.5 * h
 
     near = [b for b in candidates if box_distance(b, *point) <= _MOST_COST * h]
-    box = first_free_box(near, placed, (gap, gap), frame, allowed=plain, cost=lambda b: box_distance(b, *point),
-                         bound=lambda b: box_distance(b, *point))
-    if box is not None:
-        return box
+    if stage == "count":
+        free = np.nonzero(_inside_and_clear(near, placed, (gap, gap), frame, ()))[0]
+        return sum(1 for _ in zip(range(_FREEDOM), (k for k in free if plain(near[k]))))
+    if stage != "fallback":
+        box = first_free_box(near, placed, (gap, gap), frame, allowed=plain, cost=lambda b: box_distance(b, *point),
+                             bound=lambda b: box_distance(b, *point))
+        if box is not None or stage == "plain":
+            return box
     # a leader crossing another leader makes each label seem to point at the other's point:
     # where leaders may cross curves (every label must be written: a map's crossings), they may
     # cross each other too where no box avoids it; else the label is left out

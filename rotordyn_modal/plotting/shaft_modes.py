@@ -16,6 +16,7 @@ import numpy as np
 
 from ..units import unit_scale
 from ._labels import column_positions, draw_time_layout
+from .modes import small_number
 from ..units import rpm_text
 
 __all__ = ["plot_shaft_modes"]
@@ -125,8 +126,9 @@ def _panel(ax, view, colours, relative, factor=1.0):
     whirl = f"{view.whirl} whirl" if view.whirl != "none" else "no whirl"
     if not view.lateral:
         whirl = "no lateral motion (an axial or torsional mode)"
-    zeta = view.damping_ratio if abs(view.damping_ratio) >= 5e-4 else 0.0      # never "-0.000"
-    ax.set_title(f"mode {view.mode}: {view.frequency_hz:.2f} Hz, ζ = {zeta:.3f}, {whirl}", fontsize="small")
+    # as the bars' titles: '0.000' hid a damping of 1e-4 (and '0.0000' in the 3-D view's title 1.7e-8)
+    ax.set_title(f"mode {view.mode}: {view.frequency_hz:.2f} Hz, ζ = {small_number(view.damping_ratio)}, {whirl}",
+                 fontsize="small")
     ax.tick_params(labelsize="small")
 
 

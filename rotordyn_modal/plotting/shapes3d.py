@@ -934,7 +934,7 @@ def _title(view):
     rpm = view.speed * 30 / np.pi
     whirl = "no whirl" if view.whirl == "none" else f"{view.whirl} whirl ({small_number(view.whirl_ratio, sign=True)})"
     return (f"{view.label.capitalize()} mode {view.mode}: {view.frequency_hz:.3f} Hz, "
-            f"ζ = {view.damping_ratio:.4f}, {whirl}, {rpm_text(rpm)} rpm")
+            f"ζ = {small_number(view.damping_ratio)}, {whirl}, {rpm_text(rpm)} rpm")
 
 
 def _displaced_kinds(view):

@@ -17,7 +17,7 @@ import numpy as np
 
 from ._blas import one_blas_thread
 from .assembly import Matrices, bearing_motion, body_inertias, constant_matrices, constant_stiffness_damping, \
-    dependent_bearing_matrices, excitation_columns, is_large, mass_diagonal, mass_matrix, rigid_mass_matrix, \
+    dependent_bearing_matrices, excitation_columns, is_large, mass_matrix, rigid_mass_matrix, \
     sensor_rows, sparse_constant_matrices, weight_force
 from .elements.bearings import evaluate
 from .elements._bearing_validation import LONG_JOURNAL
@@ -731,41 +731,90 @@ def maxwell_spread_lines(model, parts=None) -> list[str]:
 
 
 def _support_scales(model) -> list:
-    """``(where, key, value, (lam, j))`` of each stiffness of the machine (:func:`_stiffness_pieces`)
-    with a finite positive scale ``lam = max_j K_jj / M_jj`` [1/s^2] (:func:`_scale`)."""
+    """``(where, key, value, (lam, j, top))`` of each stiffness of the machine
+    (:func:`_stiffness_pieces`) with a finite positive scale ``lam = max_j K_jj / M_jj`` [1/s^2]
+    (:func:`_scale`); ``top = max_j K_jj (M^-1)_jj`` [1/s^2] is its scale as the stiff one
+    (:func:`_inverse_mass_diagonal`)."""
+    import scipy.sparse
+    from .assembly import _sparse_mass
+
     with np.errstate(all="ignore"):
-        mass = mass_diagonal(model)
-        parts = [(where, key, value, _scale(K, mass)) for where, key, value, K in _stiffness_pieces(model)]
+        M = _sparse_mass(model).tocsc() if is_large(model) else scipy.sparse.csc_matrix(mass_matrix(model))
+        mass = M.diagonal()                                # mass_diagonal's, the matrix built once
+        pieces = list(_stiffness_pieces(model))
+        loaded = [d != 0 for where, _, _, d in pieces if where != "shaft"]
+        inverse = _inverse_mass_diagonal(M, np.flatnonzero(np.any(loaded, axis=0)) if loaded else [], mass)
+        parts = [(where, key, value, _scale(K, mass, inverse)) for where, key, value, K in pieces]
     return [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
+
+
+def _inverse_mass_diagonal(M, rows, mass: np.ndarray) -> np.ndarray:
+    """``(M^-1)_jj`` at the coordinates ``rows`` (``1 / M_jj`` elsewhere), (n,) [1/kg, 1/(kg m^2)];
+    ``M`` the mass matrix (n, n), ``scipy.sparse`` CSC, ``mass`` its diagonal.
+
+    A support's stiffness ``k`` at coordinate ``j`` alone has the scale ``k (M^-1)_jj``, not
+    ``k / M_jj``: a light casing between stiff bearings under a heavy rotor (rotor coordinates
+    relative to the casing, ``M_jj`` the rotor's mass) moves with the reduced mass of the two,
+    ``1 / (M^-1)_jj`` (``(M^-1)_jj >= 1 / M_jj`` always). Found by solving ``M x = e_j`` for the
+    loaded ``rows`` only (a sparse factor: no dense inverse); a mass matrix rounding leaves
+    singular keeps ``1 / M_jj`` (the analyses refuse it: :func:`checked_mass_inverse`)."""
+    out = np.where(mass > 0, 1.0 / np.where(mass > 0, mass, 1.0), 0.0)
+    rows = np.asarray(rows, dtype=int)
+    if not len(rows):
+        return out
+    import scipy.sparse.linalg
+
+    try:
+        # the few coordinates every node couples to (the casing's six, a rotor's axial one) last:
+        # an arrow's factor has no fill (SuperLU's own ordering filled a 2,800-coordinate shaft
+        # with 2e6 entries); M is symmetric positive definite, so no pivoting is needed
+        count = np.diff(M.indptr)
+        dense = count > 4 * np.median(count) + 16
+        order = np.r_[np.flatnonzero(~dense), np.flatnonzero(dense)]
+        at = np.empty_like(order)
+        at[order] = np.arange(len(order))
+        factor = scipy.sparse.linalg.splu(M[order][:, order].tocsc(), permc_spec="NATURAL", diag_pivot_thresh=0.0)
+        columns = np.zeros((M.shape[0], len(rows)))
+        columns[at[rows], np.arange(len(rows))] = 1.0
+        found = factor.solve(columns).reshape(len(columns), -1)[at[rows], np.arange(len(rows))]
+    except RuntimeError:          # SuperLU: "Factor is exactly singular"
+        return out
+    good = np.isfinite(found) & (found > 0)
+    out[rows[good]] = np.maximum(out[rows[good]], found[good])
+    return out
 
 
 def support_spreads(model, parts=None) -> list:
     """What each support costs the low modes: ``(where, key, value, digits, rigid, unit)``.
 
-    ``digits = log10(lam_e / lam_h)`` (see :func:`stiffness_spread_lines`), ``value`` the
-    support's largest coefficient, ``rigid = value lam_h / lam_e`` what it holds against in the
-    units of its key, ``unit`` (``'N/m'``; ``'N m/rad'`` for ``moment_stiffness``). Only
-    supports that some other stiffness of the machine holds against are listed. ``parts``: the
-    machine's :func:`_support_scales`, where already found.
+    ``digits = log10(lam_e / lam_h)`` (see :func:`stiffness_spread_lines`), ``lam_e`` the
+    support's ``top`` scale (``K_jj (M^-1)_jj``), ``lam_h`` the softest other's ``K_jj / M_jj``;
+    ``value`` the support's largest coefficient, ``rigid = value lam_h / lam_e`` what it holds
+    against in the units of its key, ``unit`` (``'N/m'``; ``'N m/rad'`` for
+    ``moment_stiffness``). Only supports that some other stiffness of the machine holds against
+    are listed. ``parts``: the machine's :func:`_support_scales`, where already found.
     """
     parts = _support_scales(model) if parts is None else parts
     softest = sorted((p[3][0], p[0]) for p in parts)     # a few steps per support, not all pairs
     out = []
-    for where, key, value, (scale, at) in parts:
+    for where, key, value, (_, at, top) in parts:
         held = next((other for other, owner in softest if owner != where), None)
         if where == "shaft" or held is None:
             continue
-        digits = float(np.log10(scale / held))
+        digits = float(np.log10(top / held))
         unit = "N m/rad" if key == "moment_stiffness" else "N/m"
         out.append((where, key, value, digits, value * 10.0 ** -digits, unit))
     return out
 
 
-def _scale(diagonal: np.ndarray, mass: np.ndarray):
-    """``max_j K_jj / M_jj`` over the coordinates a stiffness loads [1/s^2], and that ``j``."""
+def _scale(diagonal: np.ndarray, mass: np.ndarray, inverse: np.ndarray | None = None):
+    """``max_j K_jj / M_jj`` over the coordinates a stiffness loads [1/s^2], that ``j``, and
+    ``max_j K_jj (M^-1)_jj`` [1/s^2] (``inverse`` the diagonal of ``M^-1``; ``1 / M_jj`` where
+    not given)."""
     ratio = np.where(mass > 0, np.abs(diagonal) / np.where(mass > 0, mass, 1.0), 0.0)
     at = int(np.argmax(ratio))
-    return float(ratio[at]), at
+    top = float(np.max(np.abs(diagonal) * inverse)) if inverse is not None else float(ratio[at])
+    return float(ratio[at]), at, max(top, float(ratio[at]))
 
 
 def _key_of(block: np.ndarray, key: str, spin_axis) -> tuple:

@@ -639,9 +639,11 @@ def stiffness_spread_lines(model, parts=None) -> list[str]:
     """The warning about a support far stiffer than what it holds, one line each (or none).
 
     Each support (a bearing's radial or moment stiffness, a mount, a pedestal, a gear mesh)
-    has a scale ``lam_e = max_j K_e,jj / M_jj`` [1/s^2] over the coordinates it loads; every
-    other stiffness of the machine (the flexible shafts' bending as one part, each other
-    support alone) has its own. What a support holds is the softest of the others, ``lam_h``;
+    has a scale ``lam_e = max_j K_e,jj / m_j`` [1/s^2] over the coordinates it loads, ``m_j``
+    the mass moving there against the casing (:func:`_moving_mass`: a light casing between
+    stiff bearings under a heavy rotor moves with the reduced mass); every other stiffness of
+    the machine (the flexible shafts' bending as one part, each other support alone) has its
+    own ``max_j K_jj / M_jj``. What a support holds is the softest of the others, ``lam_h``;
     the support costs the low modes ``log10(lam_e / lam_h)`` significant digits (docs/theory.md
     §8, "Stiffness spread"). Journal bearings are not checked (their film sets its own
     stiffness from the viscosity, and a stiff film is solved well: theory §8).

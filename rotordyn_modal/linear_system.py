@@ -17,7 +17,7 @@ import numpy as np
 
 from ._blas import one_blas_thread
 from .assembly import Matrices, bearing_motion, body_inertias, constant_matrices, constant_stiffness_damping, \
-    dependent_bearing_matrices, excitation_columns, is_large, mass_diagonal, mass_matrix, rigid_mass_matrix, \
+    dependent_bearing_matrices, excitation_columns, is_large, mass_matrix, rigid_mass_matrix, \
     sensor_rows, sparse_constant_matrices, weight_force
 from .elements.bearings import evaluate
 from .elements._bearing_validation import LONG_JOURNAL
@@ -639,9 +639,11 @@ def stiffness_spread_lines(model, parts=None) -> list[str]:
     """The warning about a support far stiffer than what it holds, one line each (or none).
 
     Each support (a bearing's radial or moment stiffness, a mount, a pedestal, a gear mesh)
-    has a scale ``lam_e = max_j K_e,jj / M_jj`` [1/s^2] over the coordinates it loads; every
-    other stiffness of the machine (the flexible shafts' bending as one part, each other
-    support alone) has its own. What a support holds is the softest of the others, ``lam_h``;
+    has a scale ``lam_e = max_j K_e,jj / m_j`` [1/s^2] over the coordinates it loads, ``m_j``
+    the mass moving there against the casing (:func:`_moving_mass`: a light casing between
+    stiff bearings under a heavy rotor moves with the reduced mass); every other stiffness of
+    the machine (the flexible shafts' bending as one part, each other support alone) has its
+    own ``max_j K_jj / M_jj``. What a support holds is the softest of the others, ``lam_h``;
     the support costs the low modes ``log10(lam_e / lam_h)`` significant digits (docs/theory.md
     §8, "Stiffness spread"). Journal bearings are not checked (their film sets its own
     stiffness from the viscosity, and a stiff film is solved well: theory §8).
@@ -658,21 +660,35 @@ def stiffness_spread_lines(model, parts=None) -> list[str]:
             continue
         said = (f"{model.source}: {where} {key} = {value:.3g}: {10 ** digits:.1e} times the scale of what it holds "
                 f"(the machine's softest other stiffness, as {rigid:.3g} {unit} there)")
+        masses = _masses_clause(digits - float(np.log10(value / rigid)))
+        # a support softer than what already acts as rigid is told no such value (a 500 N/m bearing
+        # whose spread is the masses' was told '5e+05–5e+06 N/m already acts as rigid')
+        rigid_at = f"{rigid * 1e3:.1g}–{rigid * 1e4:.1g} {unit} already acts as rigid" if value > rigid * 1e3 else ""
         if digits >= SPREAD_REFUSE_DIGITS:
             raise ModelError(model.source, f"{where} {key}", f"{value:.3g}",
                              f"a support stiffness that leaves the low modes a digit in double precision: "
                              f"{10 ** digits:.1e} times the scale of what it holds, at most about "
-                             f"{rigid * 10 ** (SPREAD_REFUSE_DIGITS - 1):.1g} {unit}; {rigid * 1e3:.1g}–"
-                             f"{rigid * 1e4:.1g} {unit} already acts as rigid (docs/theory.md §8, stiffness spread); "
-                             "or else a mass or inertia where it acts far too small (the scale is stiffness over mass)")
+                             f"{value * 10 ** (SPREAD_REFUSE_DIGITS - 1 - digits):.1g} {unit}; "
+                             + (f"{rigid_at} (docs/theory.md §8, stiffness spread); " if rigid_at else "")
+                             + (f"{masses}; " if masses else "")
+                             + "or else a mass or inertia where it acts far too small (the scale is stiffness over mass)")
         found.append((digits, f"{said}: the low modes lose about {digits:.0f} of 16 significant digits; "
-                              f"{rigid * 1e3:.1g}–{rigid * 1e4:.1g} {unit} already acts as rigid "
-                              "(docs/theory.md §8)"))
+                              + "; ".join(c for c in (masses, rigid_at) if c) + " (docs/theory.md §8)"))
     if not found:
         return []
     digits, line = max(found, key=lambda f: f[0])      # one line: the worst support, the others counted
     more = len(found) - 1
     return [line + (f" (and {more} other support{'s' if more > 1 else ''})" if more else "")]
+
+
+def _masses_clause(digits: float) -> str:
+    """The words for the ``digits`` of a support's spread that come from the masses where it acts
+    (``log10(K_jj (M^-1)_jj / (K_jj / M_jj))``: a light body between stiffer supports moves with
+    their reduced mass), no stiffness removes them; empty below one digit."""
+    if not digits >= 1.0:
+        return ""
+    return (f"{10 ** digits:.1e} of that is the spread of the masses where it acts (a light body between "
+            "stiffer supports moves with their reduced mass), which no stiffness removes")
 
 
 #: digits ``log10(1 / (tau w_h))`` of a Maxwell branch's relaxation rate over the machine's slowest
@@ -731,41 +747,82 @@ def maxwell_spread_lines(model, parts=None) -> list[str]:
 
 
 def _support_scales(model) -> list:
-    """``(where, key, value, (lam, j))`` of each stiffness of the machine (:func:`_stiffness_pieces`)
-    with a finite positive scale ``lam = max_j K_jj / M_jj`` [1/s^2] (:func:`_scale`)."""
+    """``(where, key, value, (lam, j, top))`` of each stiffness of the machine
+    (:func:`_stiffness_pieces`) with a finite positive scale ``lam = max_j K_jj / M_jj`` [1/s^2]
+    (:func:`_scale`); ``top = max_j K_jj / m_j`` [1/s^2] is its scale as the stiff one, ``m_j``
+    the mass that moves at ``j`` against the casing (:func:`_moving_mass`)."""
+    import scipy.sparse
+    from .assembly import _sparse_mass
+
     with np.errstate(all="ignore"):
-        mass = mass_diagonal(model)
-        parts = [(where, key, value, _scale(K, mass)) for where, key, value, K in _stiffness_pieces(model)]
+        M = _sparse_mass(model).tocsr() if is_large(model) else scipy.sparse.csr_matrix(mass_matrix(model))
+        mass = M.diagonal()                                # mass_diagonal's, the matrix built once
+        moving = _moving_mass(M, mass, model.dofs.n_frame)
+        parts = [(where, key, value, _scale(K, mass, moving)) for where, key, value, K in _stiffness_pieces(model)]
     return [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
+
+
+def _moving_mass(M, mass: np.ndarray, n_frame: int) -> np.ndarray:
+    """The mass [kg, kg m^2] that moves at each coordinate against the casing, (n,): at a rotor's
+    or pedestal's coordinate ``j`` (relative to the casing) ``1 / (M_s^-1)_jj``, ``M_s`` the mass
+    matrix of ``j`` and the casing's coordinates, ``M_jj - M_jf M_ff^-1 M_fj``: a light casing
+    between stiff bearings under a heavy rotor moves with the reduced mass of the two, not with
+    the rotor's ``M_jj`` (a 1 g casing under a 1e9 kg rotor: 1 g). The casing's own coordinates,
+    and every one of a machine without a casing, keep ``M_jj`` (a flexible shaft's consistent
+    masses are no such spread). ``M`` (n, n) sparse CSR, ``mass`` its diagonal; a reduced mass
+    below ``1e3 eps M_jj`` keeps ``M_jj`` (no digit of it is left: the mass matrix is singular
+    to round-off, :func:`checked_mass_inverse`'s refusal)."""
+    out = mass.astype(float).copy()
+    if not n_frame or n_frame >= len(mass):
+        return out
+    frame = M[:n_frame, :n_frame].toarray()
+    coupling = M[n_frame:, :n_frame].toarray()                        # (n - n_frame, n_frame)
+    try:
+        held = np.einsum("ij,ij->i", coupling, np.linalg.solve(frame, coupling.T).T)
+    except np.linalg.LinAlgError:
+        return out
+    rest = mass[n_frame:]
+    reduced = rest - held
+    # below 1e3 eps of M_jj the subtraction keeps no digit: the mass matrix is singular to
+    # round-off, which checked_mass_inverse refuses in its own words (a stator of 1e-30 kg)
+    out[n_frame:] = np.where(np.isfinite(held) & (reduced > 1e3 * np.finfo(float).eps * rest), reduced, rest)
+    return out
 
 
 def support_spreads(model, parts=None) -> list:
     """What each support costs the low modes: ``(where, key, value, digits, rigid, unit)``.
 
-    ``digits = log10(lam_e / lam_h)`` (see :func:`stiffness_spread_lines`), ``value`` the
-    support's largest coefficient, ``rigid = value lam_h / lam_e`` what it holds against in the
-    units of its key, ``unit`` (``'N/m'``; ``'N m/rad'`` for ``moment_stiffness``). Only
-    supports that some other stiffness of the machine holds against are listed. ``parts``: the
-    machine's :func:`_support_scales`, where already found.
+    ``digits = log10(lam_e / lam_h)`` (see :func:`stiffness_spread_lines`), ``lam_e`` the
+    support's ``top`` scale (``K_jj / m_j``, :func:`_moving_mass`), ``lam_h`` the softest other's
+    ``K_jj / M_jj``;
+    ``value`` the support's largest coefficient, ``rigid = value lam_h / lam`` (``lam`` its own
+    ``K_jj / M_jj``) what it holds against in the units of its key, ``unit`` (``'N/m'``; ``'N m/rad'`` for
+    ``moment_stiffness``). Only supports that some other stiffness of the machine holds against
+    are listed. ``parts``: the machine's :func:`_support_scales`, where already found.
     """
     parts = _support_scales(model) if parts is None else parts
     softest = sorted((p[3][0], p[0]) for p in parts)     # a few steps per support, not all pairs
     out = []
-    for where, key, value, (scale, at) in parts:
+    for where, key, value, (scale, at, top) in parts:
         held = next((other for other, owner in softest if owner != where), None)
         if where == "shaft" or held is None:
             continue
-        digits = float(np.log10(scale / held))
+        digits = float(np.log10(top / held))
         unit = "N m/rad" if key == "moment_stiffness" else "N/m"
-        out.append((where, key, value, digits, value * 10.0 ** -digits, unit))
+        out.append((where, key, value, digits, value * held / scale, unit))
     return out
 
 
-def _scale(diagonal: np.ndarray, mass: np.ndarray):
-    """``max_j K_jj / M_jj`` over the coordinates a stiffness loads [1/s^2], and that ``j``."""
+def _scale(diagonal: np.ndarray, mass: np.ndarray, moving: np.ndarray | None = None):
+    """``max_j K_jj / M_jj`` over the coordinates a stiffness loads [1/s^2], that ``j``, and
+    ``max_j K_jj / m_j`` [1/s^2] (``moving`` the masses ``m_j`` of :func:`_moving_mass`; ``M_jj``
+    where not given)."""
     ratio = np.where(mass > 0, np.abs(diagonal) / np.where(mass > 0, mass, 1.0), 0.0)
     at = int(np.argmax(ratio))
-    return float(ratio[at]), at
+    if moving is None:
+        return float(ratio[at]), at, float(ratio[at])
+    top = np.where((mass > 0) & (moving > 0), np.abs(diagonal) / np.where(moving > 0, moving, 1.0), 0.0)
+    return float(ratio[at]), at, max(float(top.max()), float(ratio[at]))
 
 
 def _key_of(block: np.ndarray, key: str, spin_axis) -> tuple:

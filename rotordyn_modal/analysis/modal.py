@@ -133,6 +133,12 @@ class ModalResult:
         Roots of the state matrix below its round-off whose shapes their own stiffness loads but
         does not resolve (``docs/theory.md`` section 8): zero roots here, among the real roots,
         that may be slow modes the solve cannot tell (``modes`` says so on stderr).
+    conservative : bool
+        The machine has no damping and a symmetric positive semidefinite stiffness at this speed
+        (:func:`._roots.conservative`): every root lies on the imaginary axis, so every real part
+        (and damping ratio, log decrement) is round-off, however large (a 1 g casing under a
+        1e9 kg rotor on stiff bearings: damping ratios of -0.079 and +0.079), and
+        :meth:`to_dataframe` marks those columns so.
     """
 
     speed: float
@@ -156,6 +162,7 @@ class ModalResult:
     energy_fractions: np.ndarray | None = None
     state_real_roots: int | None = None
     unresolved_roots: int = 0
+    conservative: bool = False
 
     @property
     def kinds(self) -> np.ndarray:
@@ -254,6 +261,8 @@ class ModalResult:
             noise = {"real_part": np.full(len(lam), self.round_off),
                      "damping_ratio": self.round_off / np.abs(lam),
                      "log_decrement": 2 * np.pi * self.round_off / lam.imag}
+        if self.conservative:            # every root on the imaginary axis: any real part is round-off
+            noise.update({column: np.full(len(lam), np.inf) for column in ("real_part", "damping_ratio", "log_decrement")})
         if self.whirl_round_off is not None:
             noise["whirl_ratio"] = self.whirl_round_off[keep]
         for part in self.energy_parts:           # fractions of sums of products of unit shapes
@@ -392,6 +401,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         round_off=noise, whirl_round_off=ratio_noise, dofs=layout if layout.shafts else None,
         energy_parts=parts, energy_fractions=fractions, state_real_roots=int((snapped.imag == 0).sum()),
         unresolved_roots=_roots.unresolved_roots(values, noise, matrix, vectors, n, form.matrices.M),
+        conservative=bool(_roots.conservative(form, [speed])[0]),
     )
 
 

@@ -455,9 +455,8 @@ def _peak_search(model, inputs, n_states) -> tuple:
     frequencies = np.zeros(0) if frequencies is None else np.sort(frequencies[frequencies > 0])
     roots = _middle_roots(model, middle)
     decay = -roots.real[np.argsort(roots.imag)]
-    if not decay.size:                           # no oscillating root: nothing is looked for
-        return len({r for r in ratios if r}) * float(x.size), 0
-    decay = decay[np.minimum(np.arange(frequencies.size), decay.size - 1)]         # by rank
+    # by rank; no oscillating root there (or no matrix): HALVINGS a bracket
+    decay = decay[np.minimum(np.arange(frequencies.size), decay.size - 1)] if decay.size else None
     searched = {r: _halvings(frequencies, decay, x, r) for r in {r for r in ratios if r}}
     solutions = len(searched) * x.size + sum(float(h.sum()) for h in searched.values())
     return solutions, sum(searched[r].size for r in ratios if r)
@@ -470,9 +469,13 @@ def _middle_roots(model, speed) -> np.ndarray:
     model with hysteretic mounts: their loss left out, so its modes count less damped)."""
     from .._blas import one_blas_thread
     from ..analysis.unbalance_peaks import _LEAST_DAMPING
+    from ..errors import ModelError
     from ..linear_system import speed_linear_form
 
-    matrix = speed_linear_form(model).at(np.array([speed]))[0]
+    try:
+        matrix = speed_linear_form(model).at(np.array([speed]))[0]
+    except (InputError, ModelError):
+        return np.zeros(0, dtype=complex)
     if not np.all(np.isfinite(matrix)):
         return np.zeros(0, dtype=complex)
     with one_blas_thread(72 * matrix.shape[0] ** 2):
@@ -487,14 +490,16 @@ def _halvings(frequencies, decay, x, ratio) -> np.ndarray:
     sweep; it is halved until a 64th of its mode's band in speed, ``2 |Re lam| / ratio``
     (``decay`` (m,) ``|Re lam|`` [1/s]; the line's slope taken for the distance's), so
     ``ceil(log2(32 ratio dx / |Re lam|))`` times for the swept step ``dx`` around it (at most
-    :data:`..analysis.unbalance_peaks._HALVINGS`). Measured on gear chains at 22 speeds: see
-    docs/report.md."""
+    :data:`..analysis.unbalance_peaks._HALVINGS`; :data:`HALVINGS` where ``decay`` is None).
+    Measured on gear chains at 22 speeds: see docs/report.md."""
     from ..analysis.unbalance_peaks import _HALVINGS
 
     at = frequencies / ratio                                          # where each mode meets the line [rad/s]
     inside = (at > x[0]) & (at < x[-1])
     if not inside.any():
         return np.zeros(0)
+    if decay is None:
+        return np.full(int(inside.sum()), HALVINGS)
     k = np.searchsorted(x, at[inside])
     dx = x[k] - x[k - 1]
     with np.errstate(divide="ignore"):

@@ -13,6 +13,8 @@ evaluated for all speeds at once (each bearing only touches its rotor's columns)
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 
 from ._blas import one_blas_thread
@@ -28,7 +30,7 @@ from .model.geometry import shift_matrix
 from .units import to_system, unit_label
 from .elements.mounts import maxwell_branch_blocks, with_branch_states
 
-__all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
+__all__ = ["SpeedLinearForm", "speed_linear_form", "kept_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
            "stiffness_spread_lines", "support_spreads", "maxwell_spread_lines", "MAXWELL_REFUSE_DIGITS", "SPREAD_WARN_DIGITS", "SPREAD_REFUSE_DIGITS",
            "LOWEST_MOUNT_FREQUENCY", "same_inertia", "state_matrices", "state_space", "static_solution"]
 
@@ -542,8 +544,35 @@ def _dependent_bearings(model, inverse_columns):
 
 
 def speed_linear_form(model, like: SpeedLinearForm | None = None) -> SpeedLinearForm:
-    """The speed-dependent state matrix of ``model``; see :class:`SpeedLinearForm`."""
-    return SpeedLinearForm(model, like)
+    """The speed-dependent state matrix of ``model``; see :class:`SpeedLinearForm`. Inside a
+    :func:`kept_form` block of this very model, the block's one form."""
+    kept = _KEPT.get(id(model))
+    if kept is None or kept[0] is not model:
+        return SpeedLinearForm(model, like)
+    if kept[1] is None:
+        kept[1] = SpeedLinearForm(model, like)
+    return kept[1]
+
+
+#: the forms of :func:`kept_form` blocks running: ``id(model) -> [model, form or None]``
+_KEPT = {}
+
+
+@contextlib.contextmanager
+def kept_form(model):
+    """A block in which :func:`speed_linear_form` of this very ``model`` object gives one form,
+    built on first use and let go at the block's end: a command whose steps each build it
+    (``critical-speeds``: the sweep, the mode numbers, the terminal's round-off) builds it once,
+    and no result keeps it."""
+    key = id(model)
+    if key in _KEPT:                      # an outer block keeps it already
+        yield
+        return
+    _KEPT[key] = [model, None]
+    try:
+        yield
+    finally:
+        del _KEPT[key]
 
 
 def same_inertia(a, b) -> bool:

@@ -54,6 +54,7 @@ def add_arguments(parser):
 def run(args) -> int:
     from ..analysis._work import refuse_long_work
     from ..analysis.campbell import campbell
+    from ..linear_system import kept_form
     model = open_model(args)
     modes, limit = lowest_option(args.lowest, model), max_frequency_option(args.max_frequency)
     speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
@@ -62,10 +63,11 @@ def run(args) -> int:
             refuse_long_work(model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "
                              "N, --max-frequency HZ), fewer excitation orders (--orders) or fewer speeds (--speeds)",
                              memory=True)
-    result = campbell(model, speeds, orders=orders, progress=show_progress(args), modes=modes, max_frequency=limit)
-    # the table's mode_at_speed: the number 'modes --speed' gives each crossing's mode there
-    write_table(undamped_zeros(result.critical.to_dataframe(), model), args,
-                empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")
+    with kept_form(model):              # the sweep and the mode numbers build one linear form
+        result = campbell(model, speeds, orders=orders, progress=show_progress(args), modes=modes, max_frequency=limit)
+        # the table's mode_at_speed: the number 'modes --speed' gives each crossing's mode there
+        table = undamped_zeros(result.critical.to_dataframe(), model)
+    write_table(table, args, empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")
     if args.plot:
         use_agg()
         save_figure(result.plot(title=model.name or None, speed_unit=args.speed_unit), args)

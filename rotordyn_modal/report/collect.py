@@ -406,8 +406,9 @@ ROUND_OFF_SECONDS = 1e-8
 #: the damped critical speeds the unbalance response looks for
 #: (:func:`..analysis.unbalance_peaks.unresolved_criticals`): eigenvalue-only solutions per
 #: bracket (a mode's frequency crossing a source's line between two swept speeds), the bracket
-#: halved until it is a 64th of the mode's band (measured on gear chains at 12 and 22 speeds:
-#: 8.1 a bracket at 6 rotors, 8.3 at 10, 7.5 at 20; 4.1 at 60, two of its ratios)
+#: halved until it is a 64th of the mode's band: here only the pessimistic bound without timing
+#: (measured on gear chains at 22 speeds: 7.5 a bracket at 10 rotors, 7.0 at 20, 6.9 at 30, 6.6
+#: at 60); the estimate counts each bracket's own (:func:`_halvings`)
 HALVINGS = 8.0
 #: each API case's peaks cut between swept speeds, refined on the exact response
 #: (:func:`..analysis.unbalance_peaks.cut_maxima`): calls of the response (the matrices
@@ -433,8 +434,10 @@ def _peak_search(model, inputs, n_states) -> tuple:
     for damped critical speeds and peaks between swept speeds (0, 0 where it does not look for
     them: :func:`..analysis.unbalance_peaks.not_looked_for`'s rule, from the sizes). The brackets
     are counted from the undamped machine's frequencies at the middle speed
-    (:func:`..analysis._work._undamped_frequencies`) between each ratio's line's ends: the
-    search solves every swept speed once a distinct ratio and :data:`HALVINGS` a bracket."""
+    (:func:`..analysis._work._undamped_frequencies`) between each ratio's line's ends, and each
+    one's halvings from the damping of the damped root of its rank there (:func:`_middle_roots`,
+    :func:`_halvings`): the search solves every swept speed once a distinct ratio and each
+    bracket's halvings."""
     from ..analysis import _work
     from ..assembly import is_large
 
@@ -447,15 +450,61 @@ def _peak_search(model, inputs, n_states) -> tuple:
 
     if unbalance_peaks.not_looked_for(model, x, n_states=n_states):
         return 0.0, 0
-    frequencies = _work._undamped_frequencies(model, float(x[len(x) // 2]))
+    middle = float(x[len(x) // 2])
+    frequencies = _work._undamped_frequencies(model, middle)
     frequencies = np.zeros(0) if frequencies is None else np.sort(frequencies[frequencies > 0])
+    roots = _middle_roots(model, middle)
+    decay = -roots.real[np.argsort(roots.imag)]
+    # by rank; no oscillating root there (or no matrix): HALVINGS a bracket
+    decay = decay[np.minimum(np.arange(frequencies.size), decay.size - 1)] if decay.size else None
+    searched = {r: _halvings(frequencies, decay, x, r) for r in {r for r in ratios if r}}
+    solutions = len(searched) * x.size + sum(float(h.sum()) for h in searched.values())
+    return solutions, sum(searched[r].size for r in ratios if r)
 
-    def brackets(r):
-        return int(np.searchsorted(frequencies, r * x.max()) - np.searchsorted(frequencies, r * x.min()))
 
-    distinct = {r for r in ratios if r}
-    solutions = len(distinct) * x.size + HALVINGS * sum(brackets(r) for r in distinct)
-    return solutions, sum(brackets(r) for r in ratios if r)
+def _middle_roots(model, speed) -> np.ndarray:
+    """The oscillating roots (``Im > 0``, damped more than round-off, as
+    :func:`..analysis.unbalance_peaks.unresolved_criticals` keeps them) of the state matrix at
+    ``speed`` [rad/s], (m,) complex [1/s]: one eigenvalue-only solution, on one BLAS thread (a
+    model with hysteretic mounts: their loss left out, so its modes count less damped)."""
+    from .._blas import one_blas_thread
+    from ..analysis.unbalance_peaks import _LEAST_DAMPING
+    from ..errors import ModelError
+    from ..linear_system import speed_linear_form
+
+    try:
+        matrix = speed_linear_form(model).at(np.array([speed]))[0]
+    except (InputError, ModelError):
+        return np.zeros(0, dtype=complex)
+    if not np.all(np.isfinite(matrix)):
+        return np.zeros(0, dtype=complex)
+    with one_blas_thread(72 * matrix.shape[0] ** 2):
+        values = np.linalg.eigvals(matrix)
+    return values[(values.imag > 0) & (values.real < -_LEAST_DAMPING * np.abs(values))]
+
+
+def _halvings(frequencies, decay, x, ratio) -> np.ndarray:
+    """Eigenvalue-only solutions of each bracket of a source of speed ratio ``ratio`` (> 0) on the
+    sweep ``x`` (S,) [rad/s], increasing: a bracket wherever a mode's frequency
+    (``frequencies`` (m,) [rad/s], as at every speed) meets the line ``ratio x`` inside the
+    sweep; it is halved until a 64th of its mode's band in speed, ``2 |Re lam| / ratio``
+    (``decay`` (m,) ``|Re lam|`` [1/s]; the line's slope taken for the distance's), so
+    ``ceil(log2(32 ratio dx / |Re lam|))`` times for the swept step ``dx`` around it (at most
+    :data:`..analysis.unbalance_peaks._HALVINGS`; :data:`HALVINGS` where ``decay`` is None).
+    Measured on gear chains at 22 speeds: see docs/report.md."""
+    from ..analysis.unbalance_peaks import _HALVINGS
+
+    at = frequencies / ratio                                          # where each mode meets the line [rad/s]
+    inside = (at > x[0]) & (at < x[-1])
+    if not inside.any():
+        return np.zeros(0)
+    if decay is None:
+        return np.full(int(inside.sum()), HALVINGS)
+    k = np.searchsorted(x, at[inside])
+    dx = x[k] - x[k - 1]
+    with np.errstate(divide="ignore"):
+        count = np.ceil(np.log2(32.0 * ratio * dx / decay[inside]))
+    return np.clip(count, 0, _HALVINGS)
 
 
 def _timed_response(model, speed) -> tuple:
@@ -518,14 +567,15 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     - the mode shapes at the MCS: :data:`MODES_SHARE` solutions;
     - the UCS map: :data:`UCS_SHARE` of a solution per value of its stiffness grid and of its
       speed-dependent bearings' curves, and a second map where the bearings' own stiffness lies
-      outside the default grid (:func:`_ucs_widened`); the refinement of its curves' crossings
-      is not counted;
+      outside the default grid (:func:`_ucs_widened`), and the refinement of each map's
+      speed-dependent bearings' crossings (:func:`_ucs_refined`);
     - the unbalance response: :data:`CASE_SHARE` per case, :data:`SOLVE_SHARE` per case and
       speed, the damped critical speeds it looks for (:func:`_peak_search`, eigenvalues alone)
       and each case's peaks refined between swept speeds (:data:`PEAK_CALLS` calls of the
       direct solve a case, :data:`PEAK_SPEEDS` speeds a bracket, timed on the model:
       :func:`_timed_response`);
-    - the Level I sweep (:func:`..analysis.level1.sweep_solutions`).
+    - the Level I sweep (:func:`..analysis.level1.sweep_solutions`, and :data:`LEVEL1_FOLLOWING`
+      a value of Q).
 
     The checks (probe limits, clearances, ISO zones) read the response and solve nothing.
 
@@ -556,6 +606,7 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
         grid = int(np.ceil(10 * 10 - 1e-9)) + 1 + _LEVEL1_EXTRA          # factor 10, 10 steps per Qa
         every = 2 * model.dofs.n * cases if "unbalance" in counts else 0        # every mode, every case's line
         search = (cases * points + HALVINGS * every) * _cost.EIGVALS_SHARE + (cases * PEAK_CALLS + PEAK_SPEEDS * every)
+        shares["ucs"] += UCS_SHARE * _ucs_refined(model)
         ucs = 2 * shares["ucs"]                                                 # and a map widened
         crossings = 2 * model.dofs.n * len(_work._line_slopes(model, (1,)))
         solutions = (sum(shares.values()) + ucs + search + crossings / n_states
@@ -571,9 +622,11 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
              ("modes", shares["modes"] * eig, f"1 eigen-solution of {campbell.n_states:,} states")]
     if "ucs" in counts:
         wider = _ucs_widened(model, inputs)
+        refined = _ucs_refined(model) * (1 + (wider > 0))
         values = counts["ucs"] + wider
-        parts.append(("ucs", UCS_SHARE * values * eig, f"{values:,} stiffness values"
-                      + (f" (a second map of {wider:,} reaching the bearings' own stiffness)" if wider else "")))
+        parts.append(("ucs", UCS_SHARE * (values + refined) * eig, f"{values:,} stiffness values"
+                      + (f" (a second map of {wider:,} reaching the bearings' own stiffness)" if wider else "")
+                      + (f"; their crossings' refinement: at most {refined:,} more" if refined else "")))
     if "unbalance" in counts:
         what = "API unbalance cases" if inputs.standard != "iso" else "rotors unbalanced"
         search, brackets = _peak_search(model, inputs, campbell.n_states)
@@ -586,14 +639,35 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
         parts.append(("unbalance", seconds, f"{cases:,} {what} at {points:,} speeds{found}"))
     if level1:
         count = sweep_size(model, inputs.mcs, level1["stations"], level1["qa"], shares=level1.get("shares"))
-        parts.append(("level1", sweep_solutions(count) * eig, f"{count:,} values of Q"))
+        parts.append(("level1", (sweep_solutions(count) + LEVEL1_FOLLOWING * count) * eig, f"{count:,} values of Q"))
     return ReportWork(campbell.n_dof, campbell.n_states, tuple(parts))
+
+
+#: stiffness values solved to refine one crossing of a speed-dependent bearing's curve with a
+#: mode's on the UCS map (:func:`..analysis.ucs_map._refined`: the bracket's two ends and the
+#: regula falsi's steps; measured 5.5 on examples/journal_rotor.toml, 5.75 on
+#: compressor_on_journals.toml)
+UCS_REFINE_VALUES = 6
+#: the API 617 Level I sweep's following of its modes from one value of Q to the next (the
+#: MAC of their shapes, :func:`..analysis._vectors.mac_matrix`), in eigen-solutions of the state
+#: matrix per value of Q, on top of :func:`..analysis.level1.sweep_solutions`' one (measured on
+#: gear chains: the sweep took 1.8-2.2 times that count at 10 rotors, 2.1-2.4 at 20)
+LEVEL1_FOLLOWING = 1.2
+
+
+def _ucs_refined(model) -> int:
+    """At most the stiffness values a UCS map of ``model`` solves to refine its speed-dependent
+    bearings' crossings with the 4 modes it shows (the report's map): each curve (Kxx and Kyy of
+    each such bearing) meeting each mode once, :data:`UCS_REFINE_VALUES` values a crossing (the
+    constant bearings' crossings are points of its grid: none)."""
+    curves = sum(b.coefficients.kind != "constant" for b in model.bearings)
+    return 2 * curves * 4 * UCS_REFINE_VALUES
 
 
 def _map_values(model, stiffness) -> int:
     """Values a UCS map of ``stiffness`` (G,) [N/m] solves: its grid with the constant bearings'
     values, the rigid supports, and each speed-dependent bearing's Kxx and Kyy curves (their
-    crossings' refinement not counted)."""
+    crossings' refinement: :func:`_ucs_refined`)."""
     from ..analysis.ucs_map import _CURVE_POINTS, _constant_values
 
     curves = sum(b.coefficients.kind != "constant" for b in model.bearings)

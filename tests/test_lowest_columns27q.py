@@ -63,19 +63,54 @@ def test_the_full_routes_modes_do_not_jump(full):
     assert cylindrical.sum(axis=1).min() == 2
 
 
-@pytest.mark.parametrize("modes", [2, 3])
-def test_each_column_is_one_root_of_the_full_route(full, modes):
-    """Main: with 2 modes, column 2 went from the cylindrical pair's 22.49 Hz at rest to the
-    backward tilt mode's 0.99 Hz at 100 rad/s (not one of the full route's modes)."""
-    result = rdm.campbell(rdm.Model.from_dict(_description()), SPEEDS, modes=modes, critical=False)
-    values = result.eigenvalues
+def _overhung():
+    """A steel shaft (0.6 m, 40 mm, 12 elements: 52 coordinates, the route of Newton's iteration
+    on the full pencil) on bearings at 0 and 0.4 m, an 8 kg wheel (Ip = 0.6 kg m^2) overhung at its
+    end: its gyroscopic split makes two roots near 391 Hz exchange the 4th and 5th places at
+    speed."""
+    return rdm.Model.from_dict({
+        "name": "overhung wheel", "spin_axis": [1.0, 0.0, 0.0],
+        "materials": [{"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "poisson_ratio": 0.3}],
+        "rotors": [{"name": "a", "start": [0.0, 0.0, 0.0], "element_length": 0.05,
+                    "shaft": [{"length": 0.6, "outer_diameter": 0.04, "material": "steel"}],
+                    "disks": [{"name": "wheel", "axial_position": 0.6, "mass": 8.0, "polar_inertia": 0.6,
+                               "diametral_inertia": 0.3}]}],
+        "bearings": [{"name": f"b{i}", "rotor": "a", "axial_position": z, "stiffness": 2e7, "damping": 300.0}
+                     for i, z in enumerate((0.0, 0.4))]})
+
+
+OVERHUNG_SPEEDS = rdm.rpm(np.linspace(0.0, 60000.0, 31))
+
+
+def _assert_columns_are_roots(values, full):
+    """Each column of ``values`` (N, c) holds, at neighbouring speeds where it is found, one
+    tracked root of the full route ``full`` (N, n) (told by value)."""
     for m in range(values.shape[1]):
-        for k in range(len(SPEEDS) - 1):
+        for k in range(len(values) - 1):
             a, b = values[k, m], values[k + 1, m]
             if not (np.isfinite(a) and np.isfinite(b)):
                 continue
             assert _full_modes_of(full, k, a) & _full_modes_of(full, k + 1, b), \
                 f"column {m + 1} passes from {a} to {b} between speeds {k} and {k + 1}"
+
+
+def test_a_root_passing_the_last_place_has_a_column_of_its_own():
+    """Main: the lowest 4 of the overhung wheel kept 4 columns, one of which passed between the
+    two roots near 391 Hz where they exchange the 4th and 5th places (a crossing of two modes,
+    not one of the full route's modes). Now 5 columns, each one root of the full route."""
+    model = _overhung()
+    full = rdm.campbell(model, OVERHUNG_SPEEDS, critical=False).eigenvalues
+    values = rdm.campbell(model, OVERHUNG_SPEEDS, modes=4, critical=False).eigenvalues
+    _assert_columns_are_roots(values, full)
+    assert (np.isfinite(values).sum(axis=1) == 4).all()
+
+
+@pytest.mark.parametrize("modes", [2, 3])
+def test_each_column_is_one_root_of_the_full_route(full, modes):
+    """Main: with 2 modes, column 2 went from the cylindrical pair's 22.49 Hz at rest to the
+    backward tilt mode's 0.99 Hz at 100 rad/s (not one of the full route's modes)."""
+    result = rdm.campbell(rdm.Model.from_dict(_description()), SPEEDS, modes=modes, critical=False)
+    _assert_columns_are_roots(result.eigenvalues, full)
 
 
 @pytest.mark.parametrize("modes", [2, 3])

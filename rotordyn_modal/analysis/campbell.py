@@ -800,8 +800,9 @@ _EXTRA_ROOTS = 2
 #: the full model's to round-off)
 _SAME_VALUE = 1e-6
 
-#: the MAC matrices of this many neighbouring steps' columns computed at once (:func:`_root_columns`)
-_MAC_SPEEDS = 256
+#: the largest part of the sweep's weighted shapes read at once for the MAC of each column with
+#: itself at the next speed (:func:`_doubtful_steps`) [bytes]
+_SAME_ROOT_BYTES = 8 * 2**20
 
 
 def _root_columns(stack, speeds, values, weighted, count):
@@ -862,8 +863,9 @@ def _doubtful_steps(values, weighted) -> np.ndarray:
     below :data:`_SAME_ROOT_MAC`, or is found at one of them only."""
     found = np.isfinite(values)
     doubtful = np.any(found[:-1] != found[1:], axis=1)
-    for start in range(0, len(values) - 1, _MAC_SPEEDS):
-        stop = min(start + _MAC_SPEEDS, len(values) - 1)
+    for part in _batches.chunk_slices(len(values) - 1, 32 * values.shape[1] * weighted.shape[-1],
+                                      budget=_SAME_ROOT_BYTES):
+        start, stop = part.start, part.stop
         rows = weighted[0, start:stop + 1]                               # (K + 1, c, n)
         same = np.abs(np.sum(rows[:-1].conj() * rows[1:], axis=-1)) ** 2
         doubtful[start:stop] |= np.any((same < _SAME_ROOT_MAC) & found[start:stop] & found[start + 1:stop + 1], axis=1)

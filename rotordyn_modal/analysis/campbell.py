@@ -881,7 +881,7 @@ def _links_of_steps(stack, speeds, values, steps, count) -> dict:
     from ._weighted_rows import WeightedRows
 
     at = np.unique(np.concatenate([steps, steps + 1]))
-    more = count + _EXTRA_ROOTS
+    more = min(count + _EXTRA_ROOTS, stack_root_count(stack))     # no more than the model's roots
     try:
         with warnings.catch_warnings():              # a check: its fallback is no news of the sweep's
             warnings.simplefilter("ignore")

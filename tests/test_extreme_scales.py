@@ -179,4 +179,5 @@ def test_the_lowest_modes_of_a_free_casing_with_a_spinning_rotor(tmp_path, capsy
         roots = np.linalg.eigvals(state)
         modes = roots[(roots.imag > 1e-6) & (-roots.real < 0.99 * np.abs(roots))]
         expected = np.sort(modes.imag)[:4]
+        got = got[np.isfinite(got)]           # a column per root: NaN where not among the 4 (lowcol27q)
         np.testing.assert_allclose(np.sort(got.imag), expected, rtol=1e-9)

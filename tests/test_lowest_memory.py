@@ -67,5 +67,5 @@ def test_parts_give_the_unparted_sweep_bit_for_bit(monkeypatch):
     whole = _campbell(model, 301)
     _budgets(monkeypatch, _SMALL)
     parted = _campbell(model, 301)
-    for name in ("eigenvalues", "shapes", "whirl_ratios"):
-        assert np.array_equal(getattr(whole, name), getattr(parted, name)), name
+    for name in ("eigenvalues", "shapes", "whirl_ratios"):        # NaN where a root is not among the lowest
+        assert np.array_equal(getattr(whole, name), getattr(parted, name), equal_nan=True), name

@@ -19,7 +19,6 @@ definition).
 from __future__ import annotations
 
 import math
-import re
 import warnings
 
 import numpy as np
@@ -64,11 +63,11 @@ def test_a_root_becoming_a_mode_is_no_critical_speed():
     _assert_crossings_of_the_cylindrical_pair(result.critical)
 
 
-def test_the_rows_left_out_are_counted_in_one_warning():
+def test_no_row_is_left_out_where_the_columns_follow_roots():
+    """redteam14 left the row out with one warning; lowcol27q: each column is one root (the tilt
+    mode entering has a column of its own), so no column passes to it and nothing is warned of."""
     _, warned = _campbell(2)
-    assert len(warned) == 1, warned
-    assert re.search(r"1 of 2 critical speeds left out: not crossings", warned[0]), warned
-    assert "finer speed grid" not in warned[0]
+    assert warned == []
 
 
 def test_every_root_and_three_modes_keep_both_crossings():
@@ -91,4 +90,4 @@ def test_critical_speeds_command_lists_crossings_only(tmp_path, capsys):
 
     table = pd.read_csv(out)
     np.testing.assert_allclose(table.speed_rpm, CYLINDRICAL * 30 / np.pi, rtol=1e-9)
-    assert "left out: not crossings" in capsys.readouterr().err
+    assert "left out: not crossings" not in capsys.readouterr().err      # lowcol27q: columns follow roots

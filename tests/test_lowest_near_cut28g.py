@@ -30,4 +30,5 @@ def test_a_split_pair_just_above_the_cut_is_not_solved_whole():
         result = rdm.campbell(model, speeds, modes=6, critical=False)
     assert not [w for w in caught if "solved whole" in str(w.message)], [str(w.message) for w in caught]
     for k in (5, 6, 7):                              # 300 rad/s and its neighbours
-        assert_lowest_are_the_full_models(model, speeds[k], result.eigenvalues[k], count=6)
+        row = result.eigenvalues[k]                  # a column per root: NaN where not among the 6 (lowcol27q)
+        assert_lowest_are_the_full_models(model, speeds[k], row[np.isfinite(row)], count=6)

@@ -41,7 +41,8 @@ class CampbellResult:
     speeds : ndarray, shape (N,) [rad/s]
     eigenvalues : ndarray, shape (N, n_modes), complex [1/s]
         Column ``m`` is tracked mode ``m + 1`` at every speed; NaN where that mode lies above
-        ``campbell(max_frequency=...)`` (not a mode there: ``oscillatory`` False).
+        ``campbell(max_frequency=...)`` or is not among ``campbell(modes=N)``'s lowest N (not a
+        mode there: ``oscillatory`` False).
     frequencies_hz, damping_ratios, log_decrements, whirl_ratios : ndarray, shape (N, n_modes)
     whirl : ndarray of str, shape (N, n_modes)
     shapes : ndarray, shape (N, n_modes, n), complex
@@ -529,7 +530,11 @@ def campbell(model, speeds, orders=(1,), progress=False, critical=True, modes=No
         Only the ``modes`` lowest-frequency oscillating roots at each speed, each the full
         model's root to round-off (a reduced basis gives starts, Newton's iteration on the full
         pencil refines them; a speed the basis cannot be shown to serve is solved whole, with a
-        warning; ``docs/theory.md``, "The lowest modes only"). Default: every root.
+        warning; ``docs/theory.md``, "The lowest modes only"). The result has a column for each
+        tracked root, NaN (not a mode: ``oscillatory`` False) at the speeds where that root is not
+        among the lowest ``modes`` (a root entering them, as its damping ratio falls below
+        ``OVERDAMPED_LIMIT`` or as it passes below the last, starts a column of its own; where
+        none does, ``modes`` columns). Default: every root.
     max_frequency : float, optional
         Only the oscillating roots of damped natural frequency ``Im lam / 2 pi`` at most this
         [Hz] at each speed, each the full model's root to round-off (the reduced basis made
@@ -650,6 +655,8 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
     values = values[rows + (order,)]
     shapes = _reordered(shapes, order)
     weighted = weighted.reordered(order, shapes)
+    # the lowest N alone: where a root enters them, a tracked column would pass to it (issue 27 section 3)
+    roots = None if limit is not None else _root_columns(stack, speeds, values[0], weighted, count)
     if wanted is not None:
         wanted = wanted[None][rows + (order,)]
         values, shapes, weighted, wanted = _columns_wanted(values, shapes, weighted, wanted)
@@ -669,6 +676,8 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
                                                                            values.shape[-1]))
         if wanted is not None:
             tables = [_table_below(tables[0], limit)]
+        if roots is not None:
+            tables = [_rows_of_roots(tables[0], speeds, roots, values[0], sources[0])]
         tables = [_crossings_only(tables[0], sources[0], model)]
         _warn_of_jumps(tables[0], sources[0], model)
     else:
@@ -680,6 +689,8 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
         ratios = np.where(wanted, ratios, 0.0)
     if noise is not None:
         noise = np.where(oscillating[0] & np.isfinite(values[0]), noise, 0.0)
+    if roots is not None:                      # a column per root, NaN where it is not among the lowest
+        values, shapes, ratios, noise = _by_root(roots, values, shapes, ratios, noise)
     freq, zeta, log_dec = modal_quantities(values)
     return CampbellResult(
         speeds=speeds, eigenvalues=values[0], frequencies_hz=freq[0], damping_ratios=zeta[0],
@@ -774,6 +785,230 @@ def _near(wanted):
     near[:, 1:] |= wanted[:, :-1]
     near[:, :-1] |= wanted[:, 1:]
     return near
+
+
+#: a step of the lowest modes' route where some tracked column's MAC with itself at the next speed
+#: is below this may be one where a root enters or leaves the lowest N: it is checked
+#: (:func:`_root_columns`); above it each column plainly holds one root (tracking's ``_KEPT_MAC``)
+_SAME_ROOT_MAC = 0.99
+
+#: roots more than the lowest N solved at the steps checked (:func:`_root_columns`): the roots that
+#: leave the lowest N or enter them from above are among them on both sides of the step
+_EXTRA_ROOTS = 2
+
+#: an eigenvalue of the check this close to one of the sweep's (relative) is the same root (both
+#: the full model's to round-off)
+_SAME_VALUE = 1e-6
+
+#: the largest part of the sweep's weighted shapes read at once for the MAC of each column with
+#: itself at the next speed (:func:`_doubtful_steps`) [bytes]
+_SAME_ROOT_BYTES = 8 * 2**20
+
+
+def _root_columns(stack, speeds, values, weighted, count):
+    """The result column of each tracked root of the lowest modes' route, or None where the
+    lowest ``count`` are the same roots all along the sweep.
+
+    The route solves the lowest ``count`` modes of each speed; where a root enters them (a root
+    becoming a mode as its damping ratio falls below ``OVERDAMPED_LIMIT``, or one passing below
+    the last of them) another leaves, and tracking, which matches ``count`` roots to ``count``,
+    hands the leaving root's column to the entering one: its curve jumps between two roots
+    (redteam14: 283 Hz to 17.7 Hz). The steps where some column's weighted shape is not plainly
+    its own at the next speed (MAC below :data:`_SAME_ROOT_MAC`) are solved again, both speeds,
+    for ``count +`` :data:`_EXTRA_ROOTS` roots, which are tracked over the step: a root of the
+    sweep whose partner there is none of the sweep's roots enters (or leaves) the lowest
+    ``count``. Such a root starts a column of its own; the sweep's own tracking is kept at every
+    other step.
+
+    Parameters
+    ----------
+    stack : Stack
+        One model.
+    speeds : ndarray, shape (N,) [rad/s]
+    values : ndarray, shape (N, count), complex [1/s]
+        The tracked roots (column ``j`` is tracked mode ``j + 1``).
+    weighted : WeightedRows, shape (1, N, count, n)
+        Their weighted shapes.
+    count : int
+
+    Returns
+    -------
+    ndarray of int, shape (N, count), or None
+        ``columns[k, j]``: the result's column of tracked root ``j`` at speed ``k``; columns are
+        numbered as the tracked modes are (those that are modes at the speed nearest zero by
+        frequency there, then the others by the speed and frequency where they enter).
+    """
+    steps = _doubtful_steps(values, weighted)
+    if not len(steps):
+        return None
+    links = _links_of_steps(stack, speeds, values, steps, count)
+    if not links:
+        return None
+    columns = np.empty(values.shape, dtype=int)
+    columns[0] = np.arange(count)
+    label = count
+    for k in range(len(speeds) - 1):
+        columns[k + 1] = columns[k]
+        for j, i in links.get(k, {}).items():      # a step where roots enter: their new columns
+            if i is None:
+                columns[k + 1, j], label = label, label + 1
+            else:
+                columns[k + 1, j] = columns[k, i]
+    return _numbered(columns, values, speeds, label)
+
+
+def _doubtful_steps(values, weighted) -> np.ndarray:
+    """The steps k (to speed k + 1) where some tracked column of ``values`` (N, c) whose roots are
+    found at both speeds has a MAC of its weighted shapes (``weighted`` (1, N, c, n)) with itself
+    below :data:`_SAME_ROOT_MAC`, or is found at one of them only."""
+    found = np.isfinite(values)
+    doubtful = np.any(found[:-1] != found[1:], axis=1)
+    for part in _batches.chunk_slices(len(values) - 1, 32 * values.shape[1] * weighted.shape[-1],
+                                      budget=_SAME_ROOT_BYTES):
+        start, stop = part.start, part.stop
+        rows = weighted[0, start:stop + 1]                               # (K + 1, c, n)
+        same = np.abs(np.sum(rows[:-1].conj() * rows[1:], axis=-1)) ** 2
+        doubtful[start:stop] |= np.any((same < _SAME_ROOT_MAC) & found[start:stop] & found[start + 1:stop + 1], axis=1)
+    return np.flatnonzero(doubtful)
+
+
+def _links_of_steps(stack, speeds, values, steps, count) -> dict:
+    """Which tracked root of ``values`` (N, c) continues which over each doubtful step, where some
+    root enters or leaves the lowest ``count`` there: ``{k: {j: i or None}}``, root ``j`` at speed
+    ``k + 1`` continuing root ``i`` at ``k`` (None: it enters). A step whose roots are the same
+    on both sides, or that the check cannot tell, is not in it (the sweep's tracking stands)."""
+    from . import _lowest, _lowest_branches
+    from ._weighted_rows import WeightedRows
+
+    at = np.unique(np.concatenate([steps, steps + 1]))
+    more = min(count + _EXTRA_ROOTS, stack_root_count(stack))     # no more than the model's roots
+    try:
+        with warnings.catch_warnings():              # a check: its fallback is no news of the sweep's
+            warnings.simplefilter("ignore")
+            if stack.branch_times.shape[1]:
+                lam, phi, _ = _lowest_branches.lowest_roots(stack, speeds[at], more)
+            else:
+                lam, phi, _ = _lowest.lowest_roots(stack, speeds[at], more)
+    except InputError:                               # too long to solve again: the tracking stands
+        return {}
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+        rows = WeightedRows(stack, phi[None], one_thread=True)[0]
+    links = {}
+    for k in steps:
+        p, q = np.searchsorted(at, [k, k + 1])
+        link = _step_link(lam[[p, q]], rows[[p, q]], values[k], values[k + 1])
+        if link is not None:
+            links[int(k)] = link
+    return links
+
+
+def _step_link(lam, rows, before, after):
+    """:func:`_links_of_steps` of one step: ``lam`` (2, m) the check's roots at its two speeds,
+    ``rows`` (2, m, n) their weighted shapes; ``before``, ``after`` (c,) the sweep's tracked roots
+    there. ``{j: i or None}``, or None where the sweep's roots are the same on both sides (or a
+    root of the sweep is not among the check's).
+
+    The roots are told by value (within :data:`_SAME_VALUE`): a repeated root's copies (a rotor's
+    forward and backward modes at rest) are one root whichever copy the check's shapes follow."""
+    order = track_modes_many(lam[None], rows[None])[0, 1]            # root e at k -> order[e] at k + 1
+    second = _same_roots(lam[1], after)
+    if second is None or _same_roots(lam[0], before) is None:
+        return None
+    came_from = np.empty(len(order), dtype=int)
+    came_from[order] = np.arange(len(order))
+    partners = lam[0][came_from[second]]                 # each root at k + 1: the check's root at k it continues
+    link = dict.fromkeys(range(len(after)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        gap = np.abs(before[:, None] - partners[None, :]) / np.abs(before)[:, None]
+    gap = np.where(np.isfinite(gap), gap, 1.0)
+    for i, j in zip(*_assigned(gap)):
+        if gap[i, j] <= _SAME_VALUE:
+            link[int(j)] = int(i)
+    if all(i is not None for i in link.values()):
+        return None
+    return link
+
+
+def _assigned(gap):
+    """:func:`scipy.optimize.linear_sum_assignment` of ``gap`` (rows, columns), its entries held to 1."""
+    from scipy.optimize import linear_sum_assignment
+
+    return linear_sum_assignment(np.minimum(gap, 1.0))
+
+
+def _same_roots(lam, values):
+    """The index in ``lam`` (m,) of each root of ``values`` (c,) (within :data:`_SAME_VALUE`; a
+    repeated root's copies each to one of its own), or None where one is not there (or is not
+    found)."""
+    if not np.all(np.isfinite(values)):
+        return None
+    with np.errstate(invalid="ignore"):
+        gap = np.abs(values[:, None] - lam[None, :]) / np.abs(values)[:, None]
+    gap = np.where(np.isfinite(gap), gap, 1.0)
+    rows, index = _assigned(gap)
+    if np.any(gap[rows, index] > _SAME_VALUE):
+        return None
+    return index
+
+
+def _numbered(columns, values, speeds, total):
+    """``columns`` (N, c) renumbered as the tracked modes: those found at the speed nearest zero
+    by frequency there, then the others by the speed where they first are and their frequency
+    there."""
+    k0 = int(np.argmin(np.abs(speeds)))
+    key = np.zeros((total, 3))
+    seen = np.zeros(total, dtype=bool)
+    for k in [k0] + [k for k in range(len(speeds)) if k != k0]:
+        for j in np.flatnonzero(~seen[columns[k]]):
+            label = columns[k, j]
+            key[label] = (k != k0, k if k != k0 else 0, abs(values[k, j].imag))
+            seen[label] = True
+    rank = np.empty(total, dtype=int)
+    rank[np.lexsort(key.T[::-1])] = np.arange(total)
+    return rank[columns]
+
+
+def _rows_of_roots(table, speeds, columns, values, sources):
+    """``table`` (CriticalSpeeds of the tracked columns ``values`` (N, c)) with each row's mode the
+    result's column of its root (:func:`_root_columns`). A row refined on a step where a root
+    enters the lowest modes and more than :data:`NOT_A_CROSSING` off its order line is left out:
+    the refinement followed a column from one root to another (no crossing; the step's change of
+    roots says why, so no warning); on such a step a row on its line is the root's at the end
+    nearer its frequency."""
+    if not len(table):
+        return table
+    mode = np.asarray(table.mode, dtype=int) - 1
+    k = np.clip(np.searchsorted(speeds, np.asarray(table.speeds, dtype=float), side="right") - 1, 0,
+                max(len(speeds) - 2, 0))
+    upper = np.minimum(k + 1, len(speeds) - 1)
+    changed = np.any(columns[k] != columns[upper], axis=1)
+    keep = ~changed | (off_order_line(table, sources) <= NOT_A_CROSSING)
+    frequency = 2 * np.pi * np.asarray(table.frequencies_hz, dtype=float)
+    nearer_upper = np.abs(values[upper, mode].imag - frequency) < np.abs(values[k, mode].imag - frequency)
+    root = np.where(nearer_upper, columns[upper, mode], columns[k, mode])
+    return _critical_table(*(np.asarray(column)[keep] for column in (
+        table.source, table.order, root + 1, table.speeds, table.frequencies_hz, table.whirl,
+        table.whirl_ratios, table.damping_ratios)))
+
+
+def _by_root(columns, values, shapes, ratios, noise):
+    """The arrays of the tracked columns (1, N, c[, n]) spread over one column per root
+    (``columns`` (N, c), :func:`_root_columns`): NaN (zero shapes, ratios, round-off) where the root is
+    not among the lowest."""
+    total = int(columns.max()) + 1
+    count = len(columns)
+    rows = np.arange(count)[:, None]
+    out_values = np.full((1, count, total), complex(np.nan, np.nan))
+    out_values[0, rows, columns] = values[0]
+    out_shapes = np.zeros((1, count, total, shapes.shape[-1]), dtype=complex)
+    out_shapes[0, rows, columns] = shapes[0]
+    out_ratios = np.zeros((1, count, total))
+    out_ratios[0, rows, columns] = ratios[0]
+    if noise is not None:
+        out_noise = np.zeros((count, total))
+        out_noise[rows, columns] = noise
+        noise = out_noise
+    return out_values, out_shapes, out_ratios, noise
 
 
 #: a row of the lowest modes' route this far off its order line (relative) is no critical speed:

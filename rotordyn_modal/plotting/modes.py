@@ -4,16 +4,64 @@ from __future__ import annotations
 
 import numpy as np
 from ..units import rpm_text
+from ._style import WHIRL_STYLE
 
 __all__ = ["plot_modes"]
 
 _DOF = ["u_x", "u_y", "u_z", "θ_x", "θ_y", "θ_z"]
 
 
+#: a coordinate's last part as the bars' tick writes it (translation u [m], rotation θ [rad])
+_COORDINATE = {"ux": "u_x", "uy": "u_y", "uz": "u_z", "rx": "θ_x", "ry": "θ_y", "rz": "θ_z"}
+
+
 def _labels(result) -> list[str]:
-    """Coordinate labels: the stator's six as u_x ... θ_z, rotors' as ROTOR.uy ..."""
-    names = list(result.dof_names) or _DOF
-    return _DOF + names[6:] if names[:1] and names[0].startswith(("stator.", "frame.")) else names
+    """Coordinate labels without their body (the group label names it): ``u_x`` ... ``θ_z``;
+    a flexible rotor's node coordinates as ``n0.u_y``."""
+    names = list(result.dof_names)
+    if not names:
+        return list(_DOF)
+    out = []
+    for name in names:
+        parts = name.split(".")[1:] or [name]
+        out.append(".".join(parts[:-1] + [_COORDINATE.get(parts[-1], parts[-1])]))
+    return out
+
+
+def _groups(result) -> list[tuple[str, int, int]]:
+    """``[(label, first, stop), ...]``: each body's run of coordinates (``dof_names[first:stop]``)
+    and its label, the body's name; the stator's (or a stator-less model's carrier, ``frame``)
+    also names the rotors without coordinates of their own (rotors without bearings, rigidly
+    attached to it and moving with it). Empty without coordinate names."""
+    bodies = [name.split(".")[0] for name in result.dof_names if "." in name]
+    if len(bodies) != len(result.dof_names):
+        return []
+    groups = []
+    for k, body in enumerate(bodies):
+        if groups and groups[-1][0] == body:
+            groups[-1][2] = k + 1
+        else:
+            groups.append([body, k, k + 1])
+    attached = [r for r in getattr(result, "rotor_names", ()) if r not in bodies]
+    labels = []
+    for body, first, stop in groups:
+        if attached and body in ("stator", "frame"):
+            body = f"{body} (with {', '.join(attached)} attached)"
+        labels.append((body, first, stop))
+    return labels
+
+
+def _name_bodies(ax, groups, count: int) -> None:
+    """Write each body's name above its bars (a secondary x axis at the top, one label per
+    group) and part the groups by thin vertical lines."""
+    if not groups:
+        return
+    top = ax.secondary_xaxis("top")
+    top.set_xticks([(first + stop - 1) / 2 for _, first, stop in groups], [label for label, _, _ in groups],
+                   fontsize="x-small" if count > 6 else "small")
+    top.tick_params(axis="x", length=0, pad=2)
+    for _, first, _ in groups[1:]:
+        ax.axvline(first - 0.5, color="0.6", linewidth=0.8, linestyle=":")
 
 
 #: a damping or whirl ratio within this of zero is round-off: written 0
@@ -34,7 +82,10 @@ def small_number(value: float, sign: bool = False) -> str:
 
 
 def plot_modes(result, title: str | None = None, modes=None, columns: int | None = None):
-    """Bar chart of each oscillatory mode's mass-weighted DOF participation.
+    """Bar chart of each oscillatory mode's coordinates: ``|shape|`` (translations in m,
+    rotations in rad) divided by the mode's largest, grouped by body (each group named above
+    its bars; the stator's names the rotors rigidly attached to it), titled with the whirl in
+    the words of the report's modes table ("forward whirl", "backward whirl", "no whirl").
 
     Parameters
     ----------
@@ -58,6 +109,7 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
     cols = max(1, min(columns or 3, len(modes)))
     rows = max(1, int(np.ceil(len(modes) / cols)))
     labels = _labels(result)
+    groups = _groups(result)
     width = 3.2 if len(labels) <= 6 else 0.35 * len(labels) + 1.0
     fig, axes = plt.subplots(rows, cols, figsize=(width * cols, 2.6 * rows), layout="constrained",
                              squeeze=False)
@@ -65,11 +117,15 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
         ax.set_visible(False)
     for number, ax, m in zip(numbers, axes.ravel(), modes):
         magnitude = np.abs(result.shapes[m])
-        ax.bar(labels, magnitude / magnitude.max(), color="tab:blue")
+        ax.bar(np.arange(len(labels)), magnitude / magnitude.max(), color="tab:blue", tick_label=labels)
         if len(labels) > 6:
             ax.tick_params(axis="x", labelrotation=90, labelsize="x-small")
         ax.set_title(f"mode {number}: {result.frequencies_hz[m]:.2f} Hz, ζ={small_number(result.damping_ratios[m])}\n"
-                     f"{result.whirl[m]} (ratio {small_number(result.whirl_ratios[m], sign=True)})", fontsize="small")
+                     f"{WHIRL_STYLE[result.whirl[m]]['label']} (ratio {small_number(result.whirl_ratios[m], sign=True)})",
+                     fontsize="small")
         ax.set_ylim(0, 1.05)
+        _name_bodies(ax, groups, len(labels))
+        if ax.get_subplotspec().is_first_col():
+            ax.set_ylabel("|u| [m], |θ| [rad]\n÷ the mode's largest", fontsize="small")
     fig.suptitle(title or f"Mode shapes at {rpm_text(result.speed * 30 / np.pi)} rpm (|shape|, normalised)")
     return fig

@@ -889,7 +889,7 @@ def _refine_inexact(stack, speeds, values, shapes):
             # every speed's estimate in one batched product; the polish only where a root needs it
             bound[part] = _eigensolve.pencil_round_off(values[v, part], shapes[v, part], form.matrices.M,
                                                        damping, stiffness, branches=branches)
-            inexact = (bound[part] > _eigensolve.INEXACT_LEVEL) & (values[v, part].imag > 0)
+            inexact = (bound[part] > _eigensolve.POLISH_LEVEL) & (values[v, part].imag > 0)
             needed |= bool(inexact.any())
             for j in np.flatnonzero(inexact.any(axis=-1)):
                 i = part.start + j

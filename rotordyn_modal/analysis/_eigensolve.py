@@ -601,7 +601,10 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
     ``M s^2 + D s + K`` by ``eps`` of itself, for the root's own shape,
     ``eps |x|^T (|s|^2 |M| + |s| |D| + |K|) |x| / (|s| |x^H (2 s M + D) x|)`` (as the lowest
     modes' polish takes it, :func:`._lowest_newton._roundoff`), and at least the solve's own
-    ``noise / |s|`` (:func:`._roots.round_off`, the backward error of the state matrix's QR).
+    ``noise / |s|`` (:func:`._roots.round_off`, the backward error of the state matrix's QR), and at
+    least the size of the solve's own first Newton correction (:func:`_newton_step`: the QR is
+    backward stable for the state matrix, not for the pencil, and a lightly damped close pair can
+    be off by 130 times the first-order term).
 
     The state matrix holds ``M^-1 K``: forming it rounds each product of a low mode's smooth
     shape with a stiff element (a 1 mm shaft section: terms 1e12 times their sum) to ``eps`` of

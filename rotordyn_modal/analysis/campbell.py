@@ -870,7 +870,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
 
 def _refine_inexact(stack, speeds, values, shapes):
     """The roots ``values`` (V, N, m) with ``shapes`` (V, N, m, n) at ``speeds`` [rad/s] that
-    double precision leaves further off than :data:`._eigensolve.INEXACT_LEVEL`
+    double precision leaves further off than :data:`._eigensolve.POLISH_LEVEL`
     (:func:`._eigensolve.pencil_round_off`): pairs closer than that polished in place
     (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model (models with
     Maxwell branches on their rational pencil). Returns whether any root needed the polish."""

@@ -646,8 +646,8 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
              + np.einsum("...im,...im->...m", a, np.abs(stiffness) @ a))
     # real products of the real matrices with both parts (a complex product would cost twice as much)
     parts = np.concatenate([x.real, x.imag], axis=-1)
-    Mx, Dx = mass @ parts, damping @ parts
-    Mx, Dx = Mx[..., :m] + 1j * Mx[..., m:], Dx[..., :m] + 1j * Dx[..., m:]
+    Mx, Dx, Kx = mass @ parts, damping @ parts, stiffness @ parts
+    Mx, Dx, Kx = Mx[..., :m] + 1j * Mx[..., m:], Dx[..., :m] + 1j * Dx[..., m:], Kx[..., :m] + 1j * Kx[..., m:]
     slope = np.einsum("...im,...im->...m", x.conj(), 2.0 * s[..., None, :] * Mx + Dx)
     if branches is not None:
         stiff, times = np.asarray(branches[0]), np.asarray(branches[1])
@@ -664,7 +664,7 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
         out = np.finfo(float).eps * terms / (size * derivative)
         if noise is not None:
             out = np.maximum(out, noise / size)
-        step = _newton_step(s, x, Mx, Dx, stiffness, branches) / size
+        step = _newton_step(s, x, Mx, Dx, Kx, branches) / size
     out = np.nan_to_num(out, nan=np.inf, posinf=np.inf)
     out = np.where(np.isfinite(out) & np.isfinite(step), np.maximum(out, step), out)
     if branches is not None:            # a root of the branches' own states (at a pole, s = -1/tau, or with
@@ -672,7 +672,7 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
     return np.where(size > 0, out, 0.0)
 
 
-def _newton_step(s, x, Mx, Dx, stiffness, branches=None) -> np.ndarray:
+def _newton_step(s, x, Mx, Dx, Kx, branches=None) -> np.ndarray:
     """The size of the first Newton correction of each root [1/s], shape (..., m): the smaller
     root ``mu`` of ``det(Q^H T(s) Q + mu Q^H T'(s) Q) = 0`` on the plane ``Q`` of the root's shape
     and its nearest neighbour's (by frequency, the closer in the complex plane of the two beside
@@ -691,9 +691,8 @@ def _newton_step(s, x, Mx, Dx, stiffness, branches=None) -> np.ndarray:
     s : ndarray, shape (..., m), complex [1/s]
     x : ndarray, shape (..., n, m), complex
         The shapes, as columns.
-    Mx, Dx : ndarray, shape (..., n, m), complex
-        ``M x`` and ``D x``.
-    stiffness : ndarray, shape (n, n) or (..., n, n)
+    Mx, Dx, Kx : ndarray, shape (..., n, m), complex
+        ``M x``, ``D x`` and ``K x``.
     branches : (ndarray (b, k, k), ndarray (b,)), optional
         Maxwell branches (:func:`branch_terms`).
 
@@ -702,12 +701,6 @@ def _newton_step(s, x, Mx, Dx, stiffness, branches=None) -> np.ndarray:
     ndarray, shape (..., m) [1/s]
     """
     m = x.shape[-1]
-    parts = np.concatenate([x.real, x.imag], axis=-1)
-    Kx = stiffness @ parts
-    Kx = Kx[..., :m] + 1j * Kx[..., m:]
-    scale = np.linalg.norm(x, axis=-2)                                      # (..., m)
-    scale = np.where(scale > 0, scale, 1.0)[..., None, :]
-    x, Mx, Dx, Kx = x / scale, Mx / scale, Dx / scale, Kx / scale
     Bx = value = slope = None
     if branches is not None:           # the branches' terms at each root, on the shapes
         stiff, times = np.asarray(branches[0]), np.asarray(branches[1])
@@ -750,21 +743,28 @@ def _plane_step(s, x, Mx, Dx, Kx, Bx, value, slope, bi, j, other, single):
         return a[bi, :, which]
 
     root = s[bi, j][:, None]
-    xj, yk = columns(x, j), columns(x, other)
 
-    def applied(index):                        # T(s_j) v and T'(s_j) v, v the shapes of ``index``, (c, n)
-        vm, vd, vx = columns(Mx, index), columns(Dx, index), columns(Kx, index)
+    def unit(index):                           # the shapes of ``index`` (c, n), of unit norm, and their norms
+        v = columns(x, index)
+        size = np.linalg.norm(v, axis=-1)[:, None]
+        size = np.where(size > 0, size, 1.0)
+        return v / size, size
+
+    (xj, size_j), (yk, size_k) = unit(j), unit(other)
+
+    def applied(index, size):                  # T(s_j) v and T'(s_j) v, v the unit shapes of ``index``, (c, n)
+        vm, vd, vx = columns(Mx, index) / size, columns(Dx, index) / size, columns(Kx, index) / size
         T, dT = root * root * vm + root * vd + vx, 2.0 * root * vm + vd
         if Bx is not None:
             k = Bx.shape[-2]
-            vb = Bx[bi, :, :, index]                                          # (c, b, k)
+            vb = Bx[bi, :, :, index] / size[:, :, None]                       # (c, b, k)
             c_value, c_slope = value[bi, :, j], slope[bi, :, j]                # (c, b)
             T[:, :k] += np.einsum("cb,cbi->ci", c_value, vb)
             dT[:, :k] += np.einsum("cb,cbi->ci", c_slope, vb)
         return T, dT
 
-    T1, D1 = applied(j)
-    T2, D2 = applied(other)
+    T1, D1 = applied(j, size_j)
+    T2, D2 = applied(other, size_k)
     c = np.sum(xj.conj() * yk, axis=-1)[:, None]                               # q1^H x_k
     u = yk - c * xj
     width = np.linalg.norm(u, axis=-1)

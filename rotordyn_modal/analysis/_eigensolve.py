@@ -787,8 +787,9 @@ def _plane_step(s, x, Mx, Dx, Kx, Bx, value, slope, bi, j, other, single):
 
 
 #: the largest distance (relative) to a root's neighbour at which :func:`_newton_step` takes their
-#: plane: farther, the shape alone measured the error to a few per cent (40 random ROSS rotors)
-_PLANE_GAP = 1e-2
+#: plane (farther, the shape alone): over 40 random ROSS rotors the error was at most 2.0 times the
+#: estimate with the plane for every root within its own size, 3.9 times with it within 1e-2 only
+_PLANE_GAP = 1.0
 #: the least width (sine of the angle) of a root's shape and its neighbour's for
 #: :func:`_newton_step` to take their plane (nearly parallel shapes: the shape alone)
 _PLANE_WIDTH = 1e-2

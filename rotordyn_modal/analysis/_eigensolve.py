@@ -721,69 +721,56 @@ def _newton_step(s, x, Mx, Dx, Kx, branches=None) -> np.ndarray:
         out = np.abs(a11 / b11)
         near = _nearest_by_frequency(s)
         gap = np.abs(np.take_along_axis(s, near, axis=-1) - s) / np.abs(s)
-    flat = (-1, m)                                  # the leading dimensions as one, (B, ...)
-    bi, j = np.nonzero(((gap < _PLANE_GAP) & (near != np.arange(m))).reshape(flat))
-    if len(j):
-        def lead(a, inner):
-            return None if a is None else a.reshape((-1,) + a.shape[a.ndim - inner:])
-        out = out.reshape(flat)
-        out[bi, j] = _plane_step(s.reshape(flat), lead(x, 2), lead(Mx, 2), lead(Dx, 2), lead(Kx, 2),
-                                 lead(Bx, 3), lead(value, 2), lead(slope, 2), bi, j, near.reshape(flat)[bi, j],
-                                 out[bi, j])
-        out = out.reshape(s.shape)
+    plane = (gap < _PLANE_GAP) & (near != np.arange(m))
+    if plane.any():
+        pair = _plane_step(s, x, Mx, Dx, Kx, Bx, value, slope, near, (xm, xd, xk), xb if branches is not None else None)
+        out = np.where(plane & np.isfinite(pair), pair, out)
     return np.where(np.isfinite(out), out, np.inf)
 
 
-def _plane_step(s, x, Mx, Dx, Kx, Bx, value, slope, bi, j, other, single):
-    """:func:`_newton_step` on the plane of the roots ``s[bi, j]`` (``s`` (B, m), c roots; ``x``,
-    ``Mx``, ``Dx``, ``Kx`` (B, n, m), ``Bx`` (B, b, k, m) or None, ``value``, ``slope`` (B, b, m))
-    and their neighbours ``other`` (c,): the smaller root of the 2 x 2 determinant; ``single`` (c,)
-    (the shape alone) where the two shapes are nearly parallel."""
-    def columns(a, which):                    # (B, n, m) -> (c, n)
-        return a[bi, :, which]
+def _plane_step(s, x, Mx, Dx, Kx, Bx, value, slope, near, own, own_branches):
+    """:func:`_newton_step` on the plane of each root's shape ``x`` (..., n, m) and its neighbour
+    ``near``'s (..., m): the smaller root of ``det(V^H T V + mu V^H T' V) = 0``, ``V`` the two shapes
+    as they are (the roots do not depend on the plane's basis), from forms of the shapes with
+    ``Mx``, ``Dx``, ``Kx`` (..., n, m), the branches' ``Bx`` (..., b, k, m) with ``value`` and
+    ``slope`` (..., b, m), and each shape's own forms ``own`` (three (..., m)) and
+    ``own_branches`` (..., b, m); inf where the two shapes are nearly parallel (sine below
+    :data:`_PLANE_WIDTH`)."""
+    def gathered(a):
+        return np.take_along_axis(a, near[..., None, :], axis=-1)
 
-    root = s[bi, j][:, None]
+    def form(a, b):
+        return np.einsum("...im,...im->...m", a.conj(), b)
 
-    def unit(index):                           # the shapes of ``index`` (c, n), of unit norm, and their norms
-        v = columns(x, index)
-        size = np.linalg.norm(v, axis=-1)[:, None]
-        size = np.where(size > 0, size, 1.0)
-        return v / size, size
+    y = gathered(x)
+    xy, yx = [], []                   # x^H A y and y^H A x for A = M, D, K
+    for A_x in (Mx, Dx, Kx):
+        xy.append(form(x, gathered(A_x)))
+        yx.append(form(y, A_x))
+    yy = [np.take_along_axis(f, near, axis=-1) for f in own]
+    xx = list(own)
 
-    (xj, size_j), (yk, size_k) = unit(j), unit(other)
+    def pencil(f, root):              # (T, T') from the forms (M, D, K) of a pair of shapes
+        return root * root * f[0] + root * f[1] + f[2], 2.0 * root * f[0] + f[1]
 
-    def applied(index, size):                  # T(s_j) v and T'(s_j) v, v the unit shapes of ``index``, (c, n)
-        vm, vd, vx = columns(Mx, index) / size, columns(Dx, index) / size, columns(Kx, index) / size
-        T, dT = root * root * vm + root * vd + vx, 2.0 * root * vm + vd
-        if Bx is not None:
-            k = Bx.shape[-2]
-            vb = Bx[bi, :, :, index] / size[:, :, None]                       # (c, b, k)
-            c_value, c_slope = value[bi, :, j], slope[bi, :, j]                # (c, b)
-            T[:, :k] += np.einsum("cb,cbi->ci", c_value, vb)
-            dT[:, :k] += np.einsum("cb,cbi->ci", c_slope, vb)
-        return T, dT
-
-    T1, D1 = applied(j, size_j)
-    T2, D2 = applied(other, size_k)
-    c = np.sum(xj.conj() * yk, axis=-1)[:, None]                               # q1^H x_k
-    u = yk - c * xj
-    width = np.linalg.norm(u, axis=-1)
-    plane = width >= _PLANE_WIDTH
-    width = np.where(plane, width, 1.0)[:, None]
-    q2, T2, D2 = u / width, (T2 - c * T1) / width, (D2 - c * D1) / width
-
-    def dot(a, b):
-        return np.sum(a.conj() * b, axis=-1)
-
-    a11, a12, a21, a22 = dot(xj, T1), dot(xj, T2), dot(q2, T1), dot(q2, T2)
-    b11, b12, b21, b22 = dot(xj, D1), dot(xj, D2), dot(q2, D1), dot(q2, D2)
+    (a11, b11), (a12, b12), (a21, b21), (a22, b22) = (pencil(f, s) for f in (xx, xy, yx, yy))
+    if Bx is not None:
+        k = Bx.shape[-2]
+        By = np.take_along_axis(Bx, near[..., None, None, :], axis=-1)       # K_t y, (..., b, k, m)
+        terms = (own_branches, np.einsum("...im,...tim->...tm", x[..., :k, :].conj(), By),
+                 np.einsum("...im,...tim->...tm", y[..., :k, :].conj(), Bx),
+                 np.take_along_axis(own_branches, near[..., None, :], axis=-1))
+        a11, a12, a21, a22 = (a + np.sum(value * t, axis=-2) for a, t in zip((a11, a12, a21, a22), terms))
+        b11, b12, b21, b22 = (b + np.sum(slope * t, axis=-2) for b, t in zip((b11, b12, b21, b22), terms))
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        sizes = np.real(form(x, x) * form(y, y))
+        width = 1.0 - np.abs(form(x, y)) ** 2 / sizes                       # the sine squared
         # det(A + mu B) = qa mu^2 + qb mu + qc; its smaller root 2 qc / (-qb -+ sqrt(qb^2 - 4 qa qc))
         qa, qb, qc = b11 * b22 - b12 * b21, a11 * b22 + a22 * b11 - a12 * b21 - a21 * b12, a11 * a22 - a12 * a21
         r = np.sqrt(qb * qb - 4.0 * qa * qc)
         below = np.where(np.abs(-qb - r) >= np.abs(-qb + r), -qb - r, -qb + r)
         pair = np.abs(2.0 * qc / below)
-    return np.where(plane & np.isfinite(pair), pair, single)
+    return np.where(width >= _PLANE_WIDTH ** 2, pair, np.inf)
 
 
 #: the largest distance (relative) to a root's neighbour at which :func:`_newton_step` takes their

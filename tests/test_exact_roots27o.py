@@ -2,7 +2,7 @@
 roots closer than their round-off polished together on the rational pencil of Maxwell branches
 (``_lowest_newton.block_polished(..., branches)``), the critical speeds and ``stability``'s
 thresholds and log decrements refined on the polished roots, and the polish's work capped per
-speed (``_eigensolve.POLISH_WORK``), past which the roots are warned of as before.
+speed (``_polish_plan.POLISH_WORK``), past which the roots are warned of as before.
 
 Truth from outside the code: mpmath 1.3.0 Newton solves of the models' matrices (as doubles) on
 the bordered system ``[[T(s), T'(s) x], [c^H, 0]]`` with ``mpmath.lu_solve``, ``T(s) = M s^2 +
@@ -21,7 +21,7 @@ import re
 import numpy as np
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _eigensolve, _lowest_newton
+from rotordyn_modal.analysis import _lowest_newton, _polish_plan
 
 from test_exact_roots27l import _caught, _maxwell_model
 
@@ -65,7 +65,7 @@ def test_polish_work_is_capped_and_the_rest_warned(monkeypatch):
     """Past ``POLISH_WORK`` a speed, the roots are left as the solve gave them and warned of as
     before: with a budget of one eigen-solve, the pair (a block: 2) is not polished, and is named;
     of the single roots (1 each) only the lowest is polished."""
-    monkeypatch.setattr(_eigensolve, "POLISH_WORK", 1.0)
+    monkeypatch.setattr(_polish_plan, "POLISH_WORK", 1.0)
     calls = []
     original = _lowest_newton.rational_root_polished
 
@@ -84,9 +84,9 @@ def test_polish_work_is_capped_and_the_rest_warned(monkeypatch):
 def test_polish_work_counts_clusters():
     """The work model, in eigen-solves of the speed: one root 1, a pair 2, a cluster of k
     ``k^3 / 4``; the budget takes ten single roots, five pairs or a cluster of three with a pair."""
-    assert _eigensolve.polish_work(1) == 1.0
-    assert _eigensolve.polish_work(2) == 2.0
-    assert _eigensolve.polish_work(3) + _eigensolve.polish_work(2) < _eigensolve.POLISH_WORK < _eigensolve.polish_work(4)
+    assert _polish_plan.polish_work(1) == 1.0
+    assert _polish_plan.polish_work(2) == 2.0
+    assert _polish_plan.polish_work(3) + _polish_plan.polish_work(2) < _polish_plan.POLISH_WORK < _polish_plan.polish_work(4)
 
 
 def _cross_coupled_model(q=100.0, c=10.0):

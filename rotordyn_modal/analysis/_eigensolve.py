@@ -15,6 +15,7 @@ import numpy as np
 
 from .._blas import lapack
 from . import _batches, _roots, _vectors
+from ._polish_plan import POLISH_WORK, _clusters, _nearest_other, polish_budget, polish_work
 
 __all__ = ["REPEATED_TOLERANCE", "TIE_TOLERANCE", "eig", "eigenvalues_of", "frequency_order", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
            "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "POLISH_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots", "branch_terms",
@@ -917,64 +918,6 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
         if found is not None:
             values[pair], shapes[pair], bound[pair] = found
     return bound
-
-
-def _nearest_other(values, a):
-    """The index of the root of ``values`` (m,) nearest ``values[a]``, itself excepted."""
-    distance = np.abs(values - values[a])
-    distance[a] = np.inf
-    return int(np.argmin(distance))
-
-
-#: the polish's work at one speed at most on a small machine (up to :data:`SMALL_MACHINE`
-#: coordinates), in eigen-solves of that speed (:func:`polish_work`): however many roots need it,
-#: polishing costs a speed at most this many times its own solve, so a machine with many inexact
-#: roots stays linear in them (the lowest first; past it the roots keep their bound and are warned
-#: of). A big machine's is smaller (:func:`polish_budget`)
-POLISH_WORK = 10.0
-#: coordinates up to which :data:`POLISH_WORK` holds, and the polish's units are those measured
-#: (one root 0.5 to 0.9 of the speed's solve, a pair 1.5 to 2)
-SMALL_MACHINE = 240
-#: the polish's work at one speed at most on a big machine (from about 540 coordinates), in
-#: eigen-solves: a pair still fits, and, the units being about twice the measured cost there,
-#: the polish costs about one solve of the speed at most, half the run's time
-BIG_MACHINE_WORK = 2.0
-
-
-def polish_budget(n):
-    """The polish's work at one speed at most [eigen-solves of the speed] on a machine of ``n``
-    coordinates: :data:`POLISH_WORK` up to :data:`SMALL_MACHINE` coordinates, falling as
-    ``(SMALL_MACHINE / n)^2`` above (a big machine's solve is long, and the polish had taken 68 %
-    of a 624-coordinate run with ten inexact roots a speed) to :data:`BIG_MACHINE_WORK` (or
-    :data:`POLISH_WORK` where smaller)."""
-    return max(min(BIG_MACHINE_WORK, POLISH_WORK), POLISH_WORK * min(1.0, SMALL_MACHINE / max(n, 1)) ** 2)
-
-
-def polish_work(size, n=0):
-    """The work of polishing a cluster of ``size`` roots, in eigen-solves of the speed (the QR of
-    the ``2n`` state matrix with its vectors), on a machine of ``n`` coordinates. Measured
-    (``docs/theory.md``, "Close roots"; CPU, same process, random SPD pencils): one root 0.87,
-    0.84, 0.52, 0.34, 0.23, 0.21 of the solve at 60, 120, 240, 600, 1,000, 1,500 coordinates, a
-    pair 1.96, 2.0, 1.45, 1.12, 0.85, 0.75, three roots 2.5, 2.5, 1.9 at 240, 600, 1,000. Counted
-    as 1 for one root, ``k^3 / 4`` for ``k`` (2 for a pair: ``k n + k^2`` unknowns solved three
-    times), times ``sqrt(SMALL_MACHINE / n)`` above :data:`SMALL_MACHINE` coordinates (at most
-    twice the measured cost)."""
-    work = 1.0 if size == 1 else size ** 3 / 4.0
-    return work * min(1.0, np.sqrt(SMALL_MACHINE / n)) if n > SMALL_MACHINE else work
-
-
-def _clusters(values, bound, order):
-    """The roots ``order`` (indices into ``values``, by frequency) in clusters (a list of index
-    arrays, by frequency): runs of neighbours closer than either's round-off ``bound`` (relative),
-    which one-root steps cannot tell apart, and the others one by one."""
-    runs = [[order[0]]]
-    for a, b in zip(order[:-1], order[1:]):
-        gap = abs(values[b] - values[a]) / max(abs(values[a]), abs(values[b]))
-        if gap < max(bound[a], bound[b]):
-            runs[-1].append(b)
-        else:
-            runs.append([b])
-    return [np.array(run) for run in runs]
 
 
 def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3):

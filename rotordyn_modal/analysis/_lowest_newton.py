@@ -18,6 +18,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 
 from . import _batches, _vectors
+from ._polish_plan import _clusters, _nearest_other, polish_budget, polish_work
 
 __all__ = ["pair_polished", "root_polished", "block_polished", "rational_root_polished"]
 
@@ -213,12 +214,10 @@ def _exactly_polished(pencils, index, lam, x, double, uncertain):
     closer than their double round-off ``double`` (P,) together (:func:`block_polished`), the
     others one at a time (a root whose steps do not converge with its nearest neighbour), the
     residual's stiffness term summed exactly, on the rational pencil where the model has Maxwell
-    branches; lowest first within ``_eigensolve.polish_budget`` a speed, and only up to
+    branches; lowest first within ``_polish_plan.polish_budget`` a speed, and only up to
     ``_PAIR_LARGEST`` coordinates (dense systems). Returns the error left (P,), NaN where not
     polished. A 1 mm shaft section in a casing on Maxwell mounts: the lowest pair 5.5e-6 and
     1.7e-6 off after the extended residual, within 1e-12 after."""
-    from ._eigensolve import _clusters, _nearest_other, polish_budget, polish_work
-
     left = np.full(len(lam), np.nan)
     if x.shape[1] > _PAIR_LARGEST:
         return left

@@ -1,0 +1,78 @@
+"""The API 617 clearance check reads the true peaks (issue 29 §4, redteam28's "Left"): at 41
+speeds (a report's ``--points 41``) examples/compressor_rotor.toml's clearance table said the
+largest response at the close-clearance stations was at the swept 5,841 rpm, while the
+response's peak (the AF table's, found between swept speeds) is at 5,726 rpm: the worst
+response against 75 % of the clearance was read low. The truth here is a fine sweep (0.5 rpm
+steps) of the same response, its orbits' semi-major axes found by brute force over the phase
+(not by the package's ``orbit_ellipses``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis.unbalance import api_unbalance_response
+from rotordyn_modal.io import load_model
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+MCS = 9000 * np.pi / 30
+
+
+def _semi_major(planes):
+    """Largest |(Re(a e^{it}), Re(b e^{it}))| over the phase t, planes (..., 2) complex."""
+    t = np.linspace(0.0, np.pi, 3601)[:, None]
+    turned = planes[..., None, :] * np.exp(1j * t)
+    return np.sqrt((turned.real ** 2).sum(axis=-1)).max(axis=-1)
+
+
+def _swept(points):
+    """The report's sweep of ``points`` speeds (2 % of the MCS to 1.5 MCS, with the MCS)."""
+    return np.union1d(np.linspace(0.02 * MCS, 1.5 * MCS, points), [MCS])
+
+
+CASE = "api-static:compressor"
+
+
+@pytest.fixture(scope="module")
+def compressor():
+    """The model, its API response at 41 swept speeds, and at 0.5 rpm steps around the peak."""
+    model = load_model(EXAMPLES / "compressor_rotor.toml")
+    fine = rdm.rpm(np.arange(5600.0, 5850.0, 0.5))
+    return model, api_unbalance_response(model, _swept(41), MCS), api_unbalance_response(model, fine, MCS)
+
+
+def test_clearance_check_takes_the_peak_between_swept_speeds(compressor):
+    """The unscaled response at eye-seal-3 is the fine sweep's largest, at its speed (the report's
+    operating range from 7,000 rpm: Scc from the probes there, no peak)."""
+    model, result, exact = compressor
+    table = result.clearance_check(model, mcs=MCS, min_operating=7000 * np.pi / 30).to_dataframe()
+    row = table[(table["clearance"] == "eye-seal-3") & (table["case"] == CASE)].iloc[0]
+    s, c = list(exact.clearance_names).index("eye-seal-3"), list(exact.sources).index(CASE)
+    major = _semi_major(exact.clearance_planes[s, c])
+    truth, at = 2.0 * major.max(), exact.speeds[np.argmax(major)] * 30 / np.pi
+    swept = 2.0 * _semi_major(result.clearance_planes[s, c]).max()
+    assert swept < 0.8 * truth                                  # the sweep misses the top of the peak
+    assert truth * (1 - 1e-4) <= row.response <= truth * (1 + 1e-3), (row.response, truth)
+    assert abs(row.speed_rpm - at) <= 1.0, (row.speed_rpm, at)
+    assert np.isclose(row.value, row.scale_factor * row.response, rtol=1e-12)
+    assert row.verdict == ("pass" if row.value <= row.limit else "fail")
+
+
+def test_scale_factor_reads_the_probes_peak_between_swept_speeds(compressor):
+    """Scc = Avl / Amax with Amax over 0 to the MCS (no operating range given, as ``unbalance
+    --checks``): Amax is the probes' peak, which the sweep misses too. Avl = 25.4 um (API 617:
+    25.4 um sqrt(12000/9000) capped at 25.4 um); Amax and the station's response from the fine
+    sweep; the scaled value must be Avl / Amax x response."""
+    model, result, exact = compressor
+    table = result.clearance_check(model, mcs=MCS).to_dataframe()
+    row = table[(table["clearance"] == "eye-seal-3") & (table["case"] == CASE)].iloc[0]
+    c = list(exact.sources).index(CASE)
+    probes = [k for k, name in enumerate(exact.outputs) if name.startswith("probe-")]
+    amax = 2.0 * np.abs(np.asarray(exact.response)[probes, c]).max()
+    s = list(exact.clearance_names).index("eye-seal-3")
+    truth = 25.4e-6 / amax * 2.0 * _semi_major(exact.clearance_planes[s, c]).max()
+    assert np.isclose(row.scale_factor, 25.4e-6 / amax, rtol=1e-4), (row.scale_factor, 25.4e-6 / amax)
+    assert truth * (1 - 1e-4) <= row.value <= truth * (1 + 1e-3), (row.value, truth)

@@ -10,6 +10,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import re
+import tomllib
+
 import numpy as np
 import pytest
 
@@ -76,3 +79,30 @@ def test_scale_factor_reads_the_probes_peak_between_swept_speeds(compressor):
     truth = 25.4e-6 / amax * 2.0 * _semi_major(exact.clearance_planes[s, c]).max()
     assert np.isclose(row.scale_factor, 25.4e-6 / amax, rtol=1e-4), (row.scale_factor, 25.4e-6 / amax)
     assert truth * (1 - 1e-4) <= row.value <= truth * (1 + 1e-3), (row.value, truth)
+
+
+def _static_text(name: str) -> str:
+    """The first paragraph of the report's static section of ``examples/NAME.toml``, tags out."""
+    import importlib
+
+    from rotordyn_modal.report import ReportInputs, render
+
+    collect = importlib.import_module("rotordyn_modal.report.collect")
+    data = collect.ReportData(ReportInputs("api684", 3000 * np.pi / 30), load_model(EXAMPLES / f"{name}.toml"),
+                              {}, ("static",))
+    collect._static(data)
+    html = render._static(data, "si")
+    return re.sub(r"<[^>]+>", "", re.search(r"<p>(.*?)</p>", html, re.S).group(1))
+
+
+def test_static_sentence_of_a_model_without_bearings_names_no_bearings():
+    """examples/counter_rotating.toml has no [[bearings]] (read from the file itself): the static
+    section said "bearings at their stiffness at that speed"."""
+    with open(EXAMPLES / "counter_rotating.toml", "rb") as handle:
+        assert "bearings" not in tomllib.load(handle)
+    text = _static_text("counter_rotating")
+    assert "bearings at their stiffness" not in text, text
+    assert "no bearings" in text and "move with the stator" in text, text
+    with open(EXAMPLES / "flexible_pump_on_mounts.toml", "rb") as handle:
+        assert tomllib.load(handle)["bearings"]                        # a model with bearings keeps it
+    assert "bearings at their stiffness at that speed" in _static_text("flexible_pump_on_mounts")

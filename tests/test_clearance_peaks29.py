@@ -47,17 +47,22 @@ def compressor():
     return model, api_unbalance_response(model, _swept(41), MCS), api_unbalance_response(model, fine, MCS)
 
 
-def test_clearance_check_takes_the_peak_between_swept_speeds(compressor):
+@pytest.mark.parametrize("points", [41, 151])
+def test_clearance_check_takes_the_peak_between_swept_speeds(compressor, points):
     """The unscaled response at eye-seal-3 is the fine sweep's largest, at its speed (the report's
-    operating range from 7,000 rpm: Scc from the probes there, no peak)."""
+    operating range from 7,000 rpm: Scc from the probes there, no peak). At 41 speeds the swept
+    line cuts the peak (below 80 % of it); at the report's default 151 it resolves it, its
+    largest swept value still 9 % low."""
     model, result, exact = compressor
+    if points != 41:
+        result = api_unbalance_response(model, _swept(points), MCS)
     table = result.clearance_check(model, mcs=MCS, min_operating=7000 * np.pi / 30).to_dataframe()
     row = table[(table["clearance"] == "eye-seal-3") & (table["case"] == CASE)].iloc[0]
     s, c = list(exact.clearance_names).index("eye-seal-3"), list(exact.sources).index(CASE)
     major = _semi_major(exact.clearance_planes[s, c])
     truth, at = 2.0 * major.max(), exact.speeds[np.argmax(major)] * 30 / np.pi
     swept = 2.0 * _semi_major(result.clearance_planes[s, c]).max()
-    assert swept < 0.8 * truth                                  # the sweep misses the top of the peak
+    assert swept < (0.8 if points == 41 else 0.95) * truth      # the sweep misses the top of the peak
     assert truth * (1 - 1e-4) <= row.response <= truth * (1 + 1e-3), (row.response, truth)
     assert abs(row.speed_rpm - at) <= 1.0, (row.speed_rpm, at)
     assert np.isclose(row.value, row.scale_factor * row.response, rtol=1e-12)

@@ -12,8 +12,9 @@ minimum diametral running clearance::
 
 over the checked speeds ``min_speed <= |speed| <= trip speed`` (API 617: from zero to trip
 speed; default the MCS), each API unbalance case on its own, at the swept speeds and at the
-stations' maxima between them that the line through the swept speeds cuts (found on the exact
-response as the AF table finds the sensors' peaks: ``unbalance_peaks.cut_maxima``).
+stations' maxima between them, found on the exact response by the AF table's search
+(``unbalance_peaks.cut_maxima``: the maxima the swept line cuts) and its golden-section step on
+each swept local maximum.
 ``Scc = Avl / Amax``, at most 6: the probe vibration limit ``Avl`` of the station's rotor over
 the largest peak-to-peak amplitude ``Amax`` of that rotor's probes (``measure = "relative"``)
 between ``min_speed`` and the MCS, in the same case, their peaks between swept speeds included
@@ -196,7 +197,7 @@ def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=
         raise InputError(f"minimum operating speed {bottom!r} rad/s: expected a finite speed >= 0 and at most "
                          "the maximum continuous speed")
     scale, scaling = _scale_factors(result, model, rotors, pkpk.shape[1], mcs, bottom, scale_cap)
-    peak_speeds, peak_pkpk = _cut_peaks(result, model, mcs, pkpk, together)
+    peak_speeds, peak_pkpk = _cut_peaks(result, model, mcs, pkpk, together, top)
     return ClearanceCheck(speeds=result.speeds, checked=checked, names=tuple(c.name for c in model.clearances),
                           rotors=rotors,
                           radial_clearances=np.array([c.radial_clearance for c in model.clearances], dtype=float),
@@ -204,22 +205,26 @@ def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=
                           scale=scale, scaling=scaling, peak_speeds=peak_speeds, peak_pkpk=peak_pkpk)
 
 
-def _cut_peaks(result, model, mcs, pkpk, together):
-    """Each station's maxima between the swept speeds that the line through them cuts, and the
-    peak-to-peak displacement there, each shape (n_stations, n_cases, Q) (None, None where the
-    response holds no damped critical speeds to look around: ``result.resonance_speeds``).
+def _cut_peaks(result, model, mcs, pkpk, together, top=None):
+    """Each station's maxima of the exact response near the swept speeds, and the peak-to-peak
+    displacement there, each shape (n_stations, n_cases, Q), NaN after a curve's last (None,
+    None where no case's model is known).
 
-    The AF table's search (:func:`.unbalance_peaks.cut_maxima`, no half-power widths) on the
-    semi-major axis of each station's orbit, solved again at the searched speeds: the model's
-    own unbalances together (one curve, around every source's critical speeds), or each API
-    case's model (:func:`.unbalance_checks.api_unbalance_cases` of ``mcs``) alone."""
-    from .unbalance_peaks import cut_maxima, per_source
+    Two searches on the semi-major axis of each station's orbit, solved again at the searched
+    speeds: the AF table's (:func:`.unbalance_peaks.cut_maxima`, no half-power widths: the
+    maxima the swept line cuts around the damped critical speeds no swept speed resolves), and
+    its golden-section step on each swept local maximum between its two neighbours (a resolved
+    peak's top lies between swept speeds too: examples/compressor_rotor.toml at the report's 151
+    speeds read 9 % low). The model's own unbalances together (one curve, around every source's
+    critical speeds), or each API case's model (:func:`.unbalance_checks.api_unbalance_cases`
+    of ``mcs``) alone. The top of the checked speeds ``top`` [rad/s] too, where the sweep runs
+    past it without it (the response still rising there). Not looked for where the AF table's peaks are not (``cut_peak_note``: a
+    large model)."""
+    from .unbalance_peaks import _refined, cut_maxima, per_source
 
-    if result.resonance_speeds is None or not model.clearances:
+    if not model.clearances or result.cut_peak_note:               # the AF table's peaks not looked for either
         return None, None
-    found = [(s[np.isfinite(s)], b[np.isfinite(b)]) for s, b in zip(result.resonance_speeds, result.resonance_bands)]
     if together:
-        found = [(np.concatenate([s for s, _ in found]), np.concatenate([b for _, b in found]))]
         models = [model]
     else:
         from .unbalance_checks import api_unbalance_cases
@@ -233,8 +238,41 @@ def _cut_peaks(result, model, mcs, pkpk, together):
         major = orbit_ellipses(_station_planes(models[each], at), 1.0)[0]
         return (major.sum(axis=1) if together else major[:, 0]).astype(complex)
 
-    at, value, _ = cut_maxima(per_source(solve), result.speeds, pkpk / 2.0, found, half_power=False)
-    return at, 2.0 * np.abs(value)
+    curve = per_source(solve)
+    peaks = [_swept_maxima(curve, result.speeds, pkpk, _refined)]
+    speed = np.abs(result.speeds)
+    if top is not None and speed.min() < top < speed.max() and not np.any(speed == top):
+        o, j = (index.ravel() for index in np.indices(pkpk.shape[:2]))
+        at = np.full(o.size, top * np.sign(result.speeds[np.argmax(speed)]))
+        peaks.append((at.reshape(pkpk.shape[:2] + (1,)), 2.0 * np.abs(curve(at, o, j)).reshape(pkpk.shape[:2] + (1,))))
+    if result.resonance_speeds is not None:
+        found = [(s[np.isfinite(s)], b[np.isfinite(b)]) for s, b in zip(result.resonance_speeds,
+                                                                          result.resonance_bands)]
+        if together:
+            found = [(np.concatenate([s for s, _ in found]), np.concatenate([b for _, b in found]))]
+        at, value, _ = cut_maxima(curve, result.speeds, pkpk / 2.0, found, half_power=False)
+        peaks.append((at, 2.0 * np.abs(value)))
+    return np.concatenate([p[0] for p in peaks], axis=2), np.concatenate([p[1] for p in peaks], axis=2)
+
+
+def _swept_maxima(curve, speeds, pkpk, refined):
+    """Each curve's interior local maxima of the swept ``pkpk`` (n_stations, n_cases, N) [m],
+    refined by ``refined`` (:func:`.unbalance_peaks._refined`) between the swept speeds either
+    side: (speeds [rad/s], pkpk [m]), each shape (n_stations, n_cases, Q), NaN padded."""
+    x, first = np.unique(np.asarray(speeds, dtype=float), return_index=True)
+    y = pkpk[:, :, first]
+    n_st, n_cases = y.shape[:2]
+    top = np.zeros(y.shape, dtype=bool)
+    top[:, :, 1:-1] = (y[:, :, 1:-1] > y[:, :, :-2]) & (y[:, :, 1:-1] >= y[:, :, 2:])
+    o, j, k = np.nonzero(top)
+    if not o.size:
+        return np.full((n_st, n_cases, 0), np.nan), np.full((n_st, n_cases, 0), np.nan)
+    c = refined(curve, {"o": o, "j": j, "a": x[k - 1], "b": x[k + 1]})
+    width = int(top.sum(axis=2).max())
+    at, value = np.full((n_st, n_cases, width), np.nan), np.full((n_st, n_cases, width), np.nan)
+    slot = top.cumsum(axis=2)[o, j, k] - 1
+    at[o, j, slot], value[o, j, slot] = c["at"], 2.0 * np.abs(c["value"])
+    return at, value
 
 
 def _station_planes(model, speeds):

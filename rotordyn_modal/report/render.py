@@ -513,8 +513,8 @@ def _clearance_table(data, units) -> str:
         "<p>At each station the rotor's motion relative to the casing (which holds the seal): its peak-to-peak "
         "response, twice the orbit's semi-major axis, scaled by the API 617 factor Scc = Avl/Amax (at most 6; "
         "Avl the probe limit A1 of the station's rotor, Amax the largest peak-to-peak amplitude at its probes over "
-        "the operating range; 1 without a probe), largest over 0 to MCS, the peaks found between swept speeds "
-        "included (as the AF table's), against 75 % of the minimum diametral "
+        "the operating range; 1 without a probe), largest over 0 to MCS, the maxima between swept speeds "
+        "included (found on the exact response), against 75 % of the minimum diametral "
         f"running clearance (0.75 x 2 x the radial clearance){shown}, each API case on its own (docs/standards.md).</p>"
     ) + _table(rows, [("clearance", True), ("rotor", True), *([("case", True)] if has_case else []),
                       (f"radial clearance [{unit}]", False), ("speed [rpm]", False),

@@ -11,11 +11,16 @@ minimum diametral running clearance::
     Scc x pk-pk(station) <= 0.75 x 2 c            (0-peak: Scc x semi-major axis <= 0.75 c)
 
 over the checked speeds ``min_speed <= |speed| <= trip speed`` (API 617: from zero to trip
-speed; default the MCS), each API unbalance case on its own. ``Scc = Avl / Amax``, at most 6:
-the probe vibration limit ``Avl`` of the station's rotor over the largest peak-to-peak amplitude
-``Amax`` of that rotor's probes (``measure = "relative"``) between ``min_speed`` and the MCS, in
-the same case; ``Scc = 1`` (unscaled) for a rotor without a probe among the outputs or without an
-MCS. The analysis is linear: the scaled response is the response to ``Scc`` times the unbalance.
+speed; default the MCS), each API unbalance case on its own, at the swept speeds and at the
+stations' maxima between them, found on the exact response by the AF table's search
+(``unbalance_peaks.cut_maxima``: the maxima the swept line cuts) and its golden-section step on
+each swept local maximum.
+``Scc = Avl / Amax``, at most 6: the probe vibration limit ``Avl`` of the station's rotor over
+the largest peak-to-peak amplitude ``Amax`` of that rotor's probes (``measure = "relative"``)
+between ``min_speed`` and the MCS, in the same case, their peaks between swept speeds included
+(``UnbalanceResult.cut_peaks``; not for several sources together); ``Scc = 1`` (unscaled) for
+a rotor without a probe among the outputs or without an MCS. The analysis is linear: the
+scaled response is the response to ``Scc`` times the unbalance.
 """
 
 from __future__ import annotations
@@ -59,6 +64,9 @@ class ClearanceCheck:
         The API 617 scale factor ``Scc`` of each station's rotor and case (default 1: unscaled).
     scaling : ndarray of str, shape (n_stations, n_cases), optional
         How ``scale`` was found (``'Avl/Amax'``, ``'Avl/Amax capped at 6'``, or why it is 1).
+    peak_speeds, peak_pkpk : ndarray, shape (n_stations, n_cases, Q), optional
+        [rad/s], [m] each station's maxima between swept speeds that the swept line cuts and
+        the peak-to-peak displacement there, NaN after a curve's last (None: not looked for).
     """
 
     speeds: np.ndarray
@@ -71,6 +79,8 @@ class ClearanceCheck:
     trip_speed: float | None = None
     scale: np.ndarray | None = None
     scaling: np.ndarray | None = None
+    peak_speeds: np.ndarray | None = None
+    peak_pkpk: np.ndarray | None = None
 
     @property
     def limits(self) -> np.ndarray:
@@ -87,7 +97,7 @@ class ClearanceCheck:
         ratio, verdict, response, scale_factor, scaling`` (then ``case`` for the API cases).
 
         ``value`` [m] is the largest scaled peak-to-peak displacement ``Scc x response`` over the
-        checked speeds (at ``speed_rpm``), ``limit`` [m] 75 % of the diametral clearance, ``ratio``
+        checked speeds and the maxima found between them (:attr:`peak_speeds`; at ``speed_rpm``), ``limit`` [m] 75 % of the diametral clearance, ``ratio``
         their quotient; ``verdict`` pass when ``value <= limit``. ``response`` [m] is the
         unscaled peak-to-peak displacement there, ``scale_factor`` the API 617 ``Scc`` and
         ``scaling`` how it was found.
@@ -100,7 +110,7 @@ class ClearanceCheck:
         for c, case in enumerate(self.cases):
             for s, (name, rotor, values, limit) in enumerate(zip(self.names, self.rotors, self.pkpk[:, c],
                                                                   self.limits)):
-                speed, response = self._largest(values)
+                speed, response = self._largest(values, s, c)
                 value = scale[s, c] * response
                 verdict = "no speed checked" if not np.isfinite(value) else ("pass" if value <= limit else "fail")
                 rows.append({"clearance": name, "rotor": rotor, "speed_rpm": speed, "value": value,
@@ -111,12 +121,24 @@ class ClearanceCheck:
                    "response", "scale_factor", "scaling", "case"]
         return pd.DataFrame(rows, columns=columns if self.cases != ("",) else columns[:-1])
 
-    def _largest(self, values):
-        """(speed [rpm], value) of the largest value over the checked speeds (NaN, NaN if none)."""
+    def _largest(self, values, s=None, c=None):
+        """(speed [rpm], value) of the largest value over the checked speeds (NaN, NaN if none),
+        or of station ``s``'s maximum between them in case ``c`` (:attr:`peak_speeds`) in the
+        checked range where it is larger."""
         if not self.checked.any():
             return np.nan, np.nan
         k = int(np.argmax(np.where(self.checked, values, -np.inf)))
-        return float(self.speeds[k] * 30 / np.pi), float(values[k])
+        speed, value = float(self.speeds[k] * 30 / np.pi), float(values[k])
+        if self.peak_speeds is None or s is None:
+            return speed, value
+        at, found = self.peak_speeds[s, c], self.peak_pkpk[s, c]
+        low = np.abs(self.speeds[self.checked]).min()
+        top = np.inf if self.trip_speed is None else self.trip_speed
+        inside = np.isfinite(at) & (np.abs(at) >= low) & (np.abs(at) <= top)
+        if inside.any() and found[inside].max() > value:
+            m = np.flatnonzero(inside)[np.argmax(found[inside])]
+            speed, value = float(at[m] * 30 / np.pi), float(found[m])
+        return speed, value
 
 
 def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=None,
@@ -175,11 +197,97 @@ def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=
         raise InputError(f"minimum operating speed {bottom!r} rad/s: expected a finite speed >= 0 and at most "
                          "the maximum continuous speed")
     scale, scaling = _scale_factors(result, model, rotors, pkpk.shape[1], mcs, bottom, scale_cap)
+    peak_speeds, peak_pkpk = _cut_peaks(result, model, mcs, pkpk, together, top)
     return ClearanceCheck(speeds=result.speeds, checked=checked, names=tuple(c.name for c in model.clearances),
                           rotors=rotors,
                           radial_clearances=np.array([c.radial_clearance for c in model.clearances], dtype=float),
                           pkpk=pkpk, cases=("",) if together else tuple(result.sources), trip_speed=top,
-                          scale=scale, scaling=scaling)
+                          scale=scale, scaling=scaling, peak_speeds=peak_speeds, peak_pkpk=peak_pkpk)
+
+
+def _cut_peaks(result, model, mcs, pkpk, together, top=None):
+    """Each station's maxima of the exact response near the swept speeds, and the peak-to-peak
+    displacement there, each shape (n_stations, n_cases, Q), NaN after a curve's last (None,
+    None where no case's model is known).
+
+    Two searches on the semi-major axis of each station's orbit, solved again at the searched
+    speeds: the AF table's (:func:`.unbalance_peaks.cut_maxima`, no half-power widths: the
+    maxima the swept line cuts around the damped critical speeds no swept speed resolves), and
+    its golden-section step on each swept local maximum between its two neighbours (a resolved
+    peak's top lies between swept speeds too: examples/compressor_rotor.toml at the report's 151
+    speeds read 9 % low). The model's own unbalances together (one curve, around every source's
+    critical speeds), or each API case's model (:func:`.unbalance_checks.api_unbalance_cases`
+    of ``mcs``) alone. The top of the checked speeds ``top`` [rad/s] too, where the sweep runs
+    past it without it (the response still rising there). Not looked for where the AF table's peaks are not (``cut_peak_note``: a
+    large model)."""
+    from .unbalance_peaks import _refined, cut_maxima, per_source
+
+    if not model.clearances or result.cut_peak_note:               # the AF table's peaks not looked for either
+        return None, None
+    if together:
+        models = [model]
+    else:
+        from .unbalance_checks import api_unbalance_cases
+
+        cases = dict(api_unbalance_cases(model, mcs)) if mcs is not None else {}
+        if any(name not in cases for name in result.sources):
+            return None, None
+        models = [cases[name] for name in result.sources]
+
+    def solve(at, each):                                         # (n_stations, K): the semi-major axes
+        major = orbit_ellipses(_station_planes(models[each], at), 1.0)[0]
+        return (major.sum(axis=1) if together else major[:, 0]).astype(complex)
+
+    curve = per_source(solve)
+    peaks = [_swept_maxima(curve, result.speeds, pkpk, _refined)]
+    speed = np.abs(result.speeds)
+    if top is not None and speed.min() < top < speed.max() and not np.any(speed == top):
+        o, j = (index.ravel() for index in np.indices(pkpk.shape[:2]))
+        at = np.full(o.size, top * np.sign(result.speeds[np.argmax(speed)]))
+        peaks.append((at.reshape(pkpk.shape[:2] + (1,)), 2.0 * np.abs(curve(at, o, j)).reshape(pkpk.shape[:2] + (1,))))
+    if result.resonance_speeds is not None:
+        found = [(s[np.isfinite(s)], b[np.isfinite(b)]) for s, b in zip(result.resonance_speeds,
+                                                                          result.resonance_bands)]
+        if together:
+            found = [(np.concatenate([s for s, _ in found]), np.concatenate([b for _, b in found]))]
+        at, value, _ = cut_maxima(curve, result.speeds, pkpk / 2.0, found, half_power=False)
+        peaks.append((at, 2.0 * np.abs(value)))
+    return np.concatenate([p[0] for p in peaks], axis=2), np.concatenate([p[1] for p in peaks], axis=2)
+
+
+def _swept_maxima(curve, speeds, pkpk, refined):
+    """Each curve's interior local maxima of the swept ``pkpk`` (n_stations, n_cases, N) [m],
+    refined by ``refined`` (:func:`.unbalance_peaks._refined`) between the swept speeds either
+    side: (speeds [rad/s], pkpk [m]), each shape (n_stations, n_cases, Q), NaN padded."""
+    x, first = np.unique(np.asarray(speeds, dtype=float), return_index=True)
+    y = pkpk[:, :, first]
+    n_st, n_cases = y.shape[:2]
+    top = np.zeros(y.shape, dtype=bool)
+    top[:, :, 1:-1] = (y[:, :, 1:-1] > y[:, :, :-2]) & (y[:, :, 1:-1] >= y[:, :, 2:])
+    o, j, k = np.nonzero(top)
+    if not o.size:
+        return np.full((n_st, n_cases, 0), np.nan), np.full((n_st, n_cases, 0), np.nan)
+    c = refined(curve, {"o": o, "j": j, "a": x[k - 1], "b": x[k + 1]})
+    width = int(top.sum(axis=2).max())
+    at, value = np.full((n_st, n_cases, width), np.nan), np.full((n_st, n_cases, width), np.nan)
+    slot = top.cumsum(axis=2)[o, j, k] - 1
+    at[o, j, slot], value[o, j, slot] = c["at"], 2.0 * np.abs(c["value"])
+    return at, value
+
+
+def _station_planes(model, speeds):
+    """The close-clearance stations' displacement relative to the stator along the transverse
+    axes, shape (n_stations, n_src, K, 2), for ``model``'s unbalances at ``speeds`` (K,) [rad/s]
+    (as :class:`~.unbalance.UnbalanceResult`'s ``clearance_planes``)."""
+    from ..model.geometry import shift_matrices
+    from .unbalance import _clearance_planes, _coordinate_response, unbalance_forces
+
+    sources, w, rotor_forces = unbalance_forces(model, speeds)
+    shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
+    motions = model.dofs.motions([(r.name, False) for r in model.rotors])
+    q = _coordinate_response(model, sources, rotor_forces, np.tile(speeds, len(sources)), w.ravel(), shifts,
+                             motions)
+    return _clearance_planes(model, q, motions, len(sources), len(speeds))
 
 
 def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):
@@ -202,6 +310,7 @@ def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):
             scaling[s] = f"unscaled: no probe on rotor {rotor}"
             continue
         largest = np.where(window, probes.probe_pkpk[rows], -np.inf).max(axis=(0, 2))   # (n_cases,)
+        largest = np.maximum(largest, _probe_peaks(result, [probes.probes[p] for p in rows], n_cases, min_speed, mcs))
         limit = probes.probe_limits[rows[0]]
         for c in range(n_cases):
             if not (np.isfinite(largest[c]) and largest[c] > 0):
@@ -211,6 +320,22 @@ def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):
             capped = cap is not None and limit / largest[c] > cap
             scaling[s, c] = (f"Avl/Amax capped at {cap:g}" if capped else "Avl/Amax") + where
     return scale, scaling
+
+
+def _probe_peaks(result, probes, n_cases, low, high):
+    """The largest peak-to-peak amplitude of the ``probes`` of each case at their peaks between
+    the swept speeds from ``low`` to ``high`` [rad/s] (the AF table's: ``result.cut_peaks``),
+    shape (n_cases,), -inf where there is none (or the sources are summed: several together)."""
+    largest = np.full(n_cases, -np.inf)
+    if n_cases != len(result.sources):
+        return largest
+    for c, source in enumerate(result.sources):
+        for name in probes:
+            at, response, _ = result.cut_peaks(name, source)
+            inside = (np.abs(at) >= low) & (np.abs(at) <= high)
+            if inside.any():
+                largest[c] = max(largest[c], 2.0 * float(np.abs(response[inside]).max()))
+    return largest
 
 
 def _operating_speeds(speed, low, high):

@@ -67,7 +67,8 @@ scaled by Scc = Avl/Amax (at most 6; Avl the probe limit A1, Amax the largest pk
 rotor's probes from --min-operating-speed (default the low end of --operating-range, or
 --operating-speed, where one is given, else --min-speed) to --mcs; 1 without a
 probe), against 75 % of the diametral clearance (1.5 x radial_clearance), largest over the
-speeds from --min-speed to --trip-speed (default --mcs), each API case on its own with
+speeds from --min-speed to --trip-speed (default --mcs) and the maxima between them (found
+on the exact response; Amax takes the peaks table's), each API case on its own with
 --api-unbalance (the criterion's unbalance), else the model's unbalances together; value,
 limit and the unscaled response in m (mil with --units us), peak-to-peak whatever
 --amplitude is.

@@ -178,6 +178,17 @@ def _model(data, units) -> str:
     return "\n".join(parts)
 
 
+def _static_supports(model) -> str:
+    """What carries the rotors in the static solve, for the static section's sentence: the
+    bearings at their stiffness at the MCS, and the rotors without bearings (rigidly attached:
+    they move with the stator, which carries their loads)."""
+    loose = [r.name for r in model.rotors if not model.bearings_of(r.name)]
+    if not model.bearings:
+        return "no bearings in the model: its rotors move with the stator, which carries their loads"
+    return "bearings at their stiffness at that speed" + (
+        f"; {', '.join(loose)} without bearings move with the stator, which carries their loads" if loose else "")
+
+
 def _static(data, units) -> str:
     result = data.results.get("static")
     if result is None:
@@ -202,7 +213,7 @@ def _static(data, units) -> str:
     return "\n".join([
         _heading("static"),
         f"<p>{under} the MCS "
-        f"({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their stiffness at that speed (docs/static.md).</p>",
+        f"({data.inputs.mcs * 30 / np.pi:.6g} rpm), {_static_supports(data.model)} (docs/static.md).</p>",
         *([] if gravity else [_NO_GRAVITY]),
         "<h3>Static displacement (sag)</h3>",
         _table(rows, [("body", True), ("point", True), ("relative to", True),
@@ -502,7 +513,8 @@ def _clearance_table(data, units) -> str:
         "<p>At each station the rotor's motion relative to the casing (which holds the seal): its peak-to-peak "
         "response, twice the orbit's semi-major axis, scaled by the API 617 factor Scc = Avl/Amax (at most 6; "
         "Avl the probe limit A1 of the station's rotor, Amax the largest peak-to-peak amplitude at its probes over "
-        "the operating range; 1 without a probe), largest over 0 to MCS, against 75 % of the minimum diametral "
+        "the operating range; 1 without a probe), largest over 0 to MCS, the maxima between swept speeds "
+        "included (found on the exact response), against 75 % of the minimum diametral "
         f"running clearance (0.75 x 2 x the radial clearance){shown}, each API case on its own (docs/standards.md).</p>"
     ) + _table(rows, [("clearance", True), ("rotor", True), *([("case", True)] if has_case else []),
                       (f"radial clearance [{unit}]", False), ("speed [rpm]", False),

@@ -184,7 +184,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
                            "with an ideal drive, or extend the table")
     outputs = _sampled_outputs(kn, times, states, system.kernel_arguments() + extra)    # signals heeded
-    return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive, outputs=outputs)
+    return SimulationResult.from_states(model, system, times, states, drive=drive, outputs=outputs)
 
 
 def _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size, samples,

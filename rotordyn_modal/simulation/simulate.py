@@ -6,6 +6,7 @@ import contextlib
 
 import numpy as np
 
+from .._progress import ONE_CALL_NOTE
 from ..errors import InputError, ModelError
 from ..linear_system import checked_mass_inverse
 from . import _kernels
@@ -897,8 +898,8 @@ EIGENVALUE_NOTICE = ("simulate: the natural frequencies of the {:,} states of th
 #: the line on stderr before the modes an impulse excites are made on a large machine (the number of
 #: states; :func:`_fewest_steps`)
 STEPS_NOTICE = ("simulate: the modes of the {:,} states of the linear model that the impulse excites, to count "
-                "the integrator's steps for the CPU estimate (seconds to minutes at this size; one LAPACK call: "
-                "on a terminal a clock shows it running; --allow-long spares them)...")
+                "the integrator's steps for the CPU estimate (seconds to minutes at this size; " + ONE_CALL_NOTE +
+                "; --allow-long spares them)...")
 
 
 def _say(line):

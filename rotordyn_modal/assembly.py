@@ -48,7 +48,7 @@ __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_s
            "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices", "bearing_coefficients",
            "pedestal_mass", "pedestal_stiffness_damping", "mesh_matrices", "sensor_rows", "point_rows", "excitation_columns", "generalized_force", "weights", "pedestal_weights",
            "weight_force", "SPARSE_DOF", "is_large", "sparse_constant_matrices", "sparse_bearing_matrices",
-           "sparse_frame_block", "sparse_rotor_body", "loss_block", "mass_diagonal", "shaft_stiffness_diagonal"]
+           "sparse_frame_block", "sparse_rotor_body", "loss_block", "shaft_stiffness_diagonal"]
 
 #: models of more generalized coordinates (a flexible rotor of some 600 nodes and more; 2,500
 #: coordinates are 50 MB per dense ``n x n`` matrix) keep ``M, C, G, K`` sparse where they are
@@ -721,14 +721,6 @@ def sparse_rotor_body(model, rotor: str, body6):
     out = _Triplets(model.dofs.n)
     _add_rotor_body_sparse(out, model, rotor, body6)
     return out.tocsr()
-
-
-def mass_diagonal(model) -> np.ndarray:
-    """The diagonal of :func:`mass_matrix`, (n,) [kg, kg m^2] (from the sparse matrix above
-    :data:`SPARSE_DOF` coordinates)."""
-    if is_large(model):
-        return _sparse_mass(model).diagonal()
-    return np.diagonal(mass_matrix(model)).copy()
 
 
 def shaft_stiffness_diagonal(model) -> np.ndarray:

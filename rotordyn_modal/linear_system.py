@@ -785,7 +785,7 @@ def _support_scales(model) -> list:
 
     with np.errstate(all="ignore"):
         M = _sparse_mass(model).tocsr() if is_large(model) else scipy.sparse.csr_matrix(mass_matrix(model))
-        mass = M.diagonal()                                # mass_diagonal's, the matrix built once
+        mass = M.diagonal()                                # the matrix built once
         moving = _moving_mass(M, mass, model.dofs.n_frame)
         parts = [(where, key, value, _scale(K, mass, moving)) for where, key, value, K in _stiffness_pieces(model)]
     return [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
@@ -842,14 +842,11 @@ def support_spreads(model, parts=None) -> list:
     return out
 
 
-def _scale(diagonal: np.ndarray, mass: np.ndarray, moving: np.ndarray | None = None):
+def _scale(diagonal: np.ndarray, mass: np.ndarray, moving: np.ndarray):
     """``max_j K_jj / M_jj`` over the coordinates a stiffness loads [1/s^2], that ``j``, and
-    ``max_j K_jj / m_j`` [1/s^2] (``moving`` the masses ``m_j`` of :func:`_moving_mass`; ``M_jj``
-    where not given)."""
+    ``max_j K_jj / m_j`` [1/s^2] (``moving`` the masses ``m_j`` of :func:`_moving_mass`)."""
     ratio = np.where(mass > 0, np.abs(diagonal) / np.where(mass > 0, mass, 1.0), 0.0)
     at = int(np.argmax(ratio))
-    if moving is None:
-        return float(ratio[at]), at, float(ratio[at])
     top = np.where((mass > 0) & (moving > 0), np.abs(diagonal) / np.where(moving > 0, moving, 1.0), 0.0)
     return float(ratio[at]), at, max(float(top.max()), float(ratio[at]))
 

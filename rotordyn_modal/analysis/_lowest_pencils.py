@@ -146,10 +146,10 @@ class _Pencils:
             out[p] = scipy.sparse.linalg.splu(Q).solve(rhs[p])
         return out
 
-    def newton_chord(self, index, lam, x, c, done=None):
+    def newton_chord(self, index, lam, x, c, done):
         """One Newton step and one chord step (the same factorisation) from roots ``lam`` (P,) with
-        vectors ``x`` (P, n), the scale fixed by ``c`` (P, n) as in ``_lowest_newton._refined``; with
-        ``done``, no chord step where the Newton step is at most ``done`` times ``|s_1|`` (Newton's own
+        vectors ``x`` (P, n), the scale fixed by ``c`` (P, n) as in ``_lowest_newton._refined``; no
+        chord step where the Newton step is at most ``done`` times ``|s_1|`` (Newton's own
         rule for a root at round-off, ``_lowest_newton._STEP``: its second solve and residual are not
         needed).
 
@@ -178,7 +178,7 @@ class _Pencils:
         chord = functools.partial(self._banded_chord, done=done)
         return _batches._threaded(chord, index, lam, x, c, item_bytes=16 * n * (width + 4))
 
-    def _banded_chord(self, index, lam, x, c, done=None):
+    def _banded_chord(self, index, lam, x, c, done):
         """:meth:`newton_chord` of some rows: band storage in chunks, ``zgbtrf`` once per row and
         ``zgbtrs`` once, and again for the rows that take the chord step."""
         band = self.band
@@ -197,7 +197,7 @@ class _Pencils:
                 step = np.einsum("pi,pi->p", cc, x0) / cu
                 s1, x1 = s0 - step, u / cu[:, None]
                 # the rows whose Newton step is not yet at round-off take the chord step
-                chord = np.arange(len(s0)) if done is None else np.nonzero(~(np.abs(step) <= done * np.abs(s1)))[0]
+                chord = np.nonzero(~(np.abs(step) <= done * np.abs(s1)))[0]
                 residual = self.residual_times(rows[chord], s1[chord], x1[chord])
                 z = self._chord_solve(ab, pivots, factored, residual, chord)
                 ds = -np.einsum("pi,pi->p", cc[chord], z) / cu[chord]

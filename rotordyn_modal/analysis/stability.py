@@ -613,7 +613,7 @@ def _crossing_zero(real_part, speeds, eigenvalues, significant, k, column):
     fa, fb = f(a), f(b)
     if not (np.sign(fa) == signs[0] and np.sign(fb) == signs[1]):
         return None
-    return brentq(f, a, b, xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
+    return _brentq_known(f, a, b, fa, fb)
 
 
 def _last_stable(largest, start, step):
@@ -640,9 +640,18 @@ def _brent(real_part, a, b):
         fa, fb = f(a), f(b)
         if not fa * fb < 0:
             return None
-        return brentq(f, a, b, xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
+        return _brentq_known(f, a, b, fa, fb)
     except _NoRootJudged:
         return None
+
+
+def _brentq_known(f, a, b, fa, fb):
+    """The zero of ``f`` in [a, b] by Brent's method (to 1e-13 relative), given ``fa = f(a)`` and
+    ``fb = f(b)`` already solved: brentq's own first calls, at a and b, take them instead of
+    solving the eigenproblem there again."""
+    known = {a: fa, b: fb}
+    return brentq(lambda s: known.pop(s) if s in known else f(s), a, b,
+                  xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
 
 
 class _NoRootJudged(Exception):

@@ -200,9 +200,9 @@ class SimulationResult:
         return plot_simulation(self, title=title, units=units)
 
     @classmethod
-    def from_states(cls, model, system, kn, extra, times, states, drive, outputs=None):
-        """Derived outputs of the raw states (``kn`` the kernels that produced them; ``outputs``: their
-        ``kn.sample_outputs`` made already, as :func:`.simulate._sampled_outputs` makes them)."""
+    def from_states(cls, model, system, times, states, drive, outputs):
+        """Derived outputs of the raw states (``outputs``: their ``kn.sample_outputs`` of the kernels
+        that produced them, made in parts with the signals heeded by :func:`.simulate._sampled_outputs`)."""
         from scipy.spatial.transform import Rotation
 
         n = system.n_dof
@@ -215,9 +215,7 @@ class SimulationResult:
         x = q[:, :3] if frame else np.zeros((count, 3))
         theta = gamma + psi[:, None] * system.e
         stator = Rotation.from_rotvec(gamma) * Rotation.from_rotvec(psi[:, None] * system.e)
-        kinetic, elastic, weight, torque, omega, wrenches = outputs or kn.sample_outputs(
-            np.ascontiguousarray(times, dtype=float), np.ascontiguousarray(states, dtype=float),
-            *system.kernel_arguments(), *extra)
+        kinetic, elastic, weight, torque, omega, wrenches = outputs
         moves, tilts = _relative_motions(system, q)
         centers = np.empty((count, len(model.rotors), 3))
         for j, b in enumerate(system.rotor_index):

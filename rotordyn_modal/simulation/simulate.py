@@ -6,6 +6,7 @@ import contextlib
 
 import numpy as np
 
+from .._progress import ONE_CALL_NOTE
 from ..errors import InputError, ModelError
 from ..linear_system import checked_mass_inverse
 from . import _kernels
@@ -184,7 +185,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
                            "with an ideal drive, or extend the table")
     outputs = _sampled_outputs(kn, times, states, system.kernel_arguments() + extra)    # signals heeded
-    return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive, outputs=outputs)
+    return SimulationResult.from_states(model, system, times, states, drive=drive, outputs=outputs)
 
 
 def _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size, samples,
@@ -897,8 +898,8 @@ EIGENVALUE_NOTICE = ("simulate: the natural frequencies of the {:,} states of th
 #: the line on stderr before the modes an impulse excites are made on a large machine (the number of
 #: states; :func:`_fewest_steps`)
 STEPS_NOTICE = ("simulate: the modes of the {:,} states of the linear model that the impulse excites, to count "
-                "the integrator's steps for the CPU estimate (seconds to minutes at this size; one LAPACK call: "
-                "on a terminal a clock shows it running; --allow-long spares them)...")
+                "the integrator's steps for the CPU estimate (seconds to minutes at this size; " + ONE_CALL_NOTE +
+                "; --allow-long spares them)...")
 
 
 def _say(line):

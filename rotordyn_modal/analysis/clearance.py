@@ -235,7 +235,7 @@ def _cut_peaks(result, model, mcs, pkpk, together, top=None):
         models = [cases[name] for name in result.sources]
 
     def solve(at, each):                                         # (n_stations, K): the semi-major axes
-        major = orbit_ellipses(_station_planes(models[each], at), 1.0)[0]
+        major = orbit_ellipses(result.clearance_planes_at(models[each], at), 1.0)[0]
         return (major.sum(axis=1) if together else major[:, 0]).astype(complex)
 
     curve = per_source(solve)
@@ -273,21 +273,6 @@ def _swept_maxima(curve, speeds, pkpk, refined):
     slot = top.cumsum(axis=2)[o, j, k] - 1
     at[o, j, slot], value[o, j, slot] = c["at"], 2.0 * np.abs(c["value"])
     return at, value
-
-
-def _station_planes(model, speeds):
-    """The close-clearance stations' displacement relative to the stator along the transverse
-    axes, shape (n_stations, n_src, K, 2), for ``model``'s unbalances at ``speeds`` (K,) [rad/s]
-    (as :class:`~.unbalance.UnbalanceResult`'s ``clearance_planes``)."""
-    from ..model.geometry import shift_matrices
-    from .unbalance import _clearance_planes, _coordinate_response, unbalance_forces
-
-    sources, w, rotor_forces = unbalance_forces(model, speeds)
-    shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
-    motions = model.dofs.motions([(r.name, False) for r in model.rotors])
-    q = _coordinate_response(model, sources, rotor_forces, np.tile(speeds, len(sources)), w.ravel(), shifts,
-                             motions)
-    return _clearance_planes(model, q, motions, len(sources), len(speeds))
 
 
 def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):

@@ -461,6 +461,18 @@ class UnbalanceResult:
 
         return separation_margins(self, operating, outputs=outputs, amplitude=amplitude or self.amplitude_kind)
 
+    @staticmethod
+    def clearance_planes_at(model, speeds):
+        """The close-clearance stations' displacement relative to the stator along the transverse
+        axes, shape (n_stations, n_src, K, 2), for ``model``'s unbalances at ``speeds`` (K,)
+        [rad/s] (as ``clearance_planes``): the clearance check's peaks between swept speeds."""
+        sources, w, rotor_forces = unbalance_forces(model, speeds)
+        shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
+        motions = model.dofs.motions([(r.name, False) for r in model.rotors])
+        q = _coordinate_response(model, sources, rotor_forces, np.tile(speeds, len(sources)), w.ravel(), shifts,
+                                 motions)
+        return _clearance_planes(model, q, motions, len(sources), len(speeds))
+
     def clearance_check(self, model, mcs=None, min_speed: float = 0.0, trip_speed=None, **options):
         """The API 617 / 684 clearance check at the model's close-clearance stations, the response
         scaled by ``Scc = Avl / Amax`` (``scale_cap``, ``min_operating``); see

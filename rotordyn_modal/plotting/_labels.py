@@ -613,22 +613,9 @@ class CurveMap:
         beside its own curve). ``keep`` is a marker's square: the leader is cut where it meets the
         circle inside it (a curve through the square's corner, outside the circle, counts). A
         curve through the marker (its own) meets a leader aimed at the marker only there."""
-        to_px = np.array(self.size if self.units == "axes" else (1.0, 1.0))
-        origin = np.array(self.origin if self.units == "axes" else (0.0, 0.0))
-        p, q = origin + np.asarray(start, float) * to_px, origin + np.asarray(end, float) * to_px
-        if keep is not None:
-            keep = np.r_[origin + np.asarray(keep[:2], float) * to_px, origin + np.asarray(keep[2:], float) * to_px]
-            q = p + _entry(p, q, keep) * (q - p)
-        others = self._segments
-        if not len(others) or np.allclose(p, q):
-            return 0
-        r, a, t = q - p, others[:, :2], others[:, 2:] - others[:, :2]
-        denominator = r[0] * t[:, 1] - r[1] * t[:, 0]
-        ap = a - p
-        with np.errstate(divide="ignore", invalid="ignore"):
-            u = (ap[:, 0] * t[:, 1] - ap[:, 1] * t[:, 0]) / denominator
-            v = (ap[:, 0] * r[1] - ap[:, 1] * r[0]) / denominator
-        return int(np.count_nonzero((denominator != 0) & (u >= 0) & (u <= 1) & (v >= 0) & (v < 1)))
+        if self.units == "axes":
+            return cuts(self._segments, self.origin, self.size, start, end, keep)
+        return cuts(self._segments, (0.0, 0.0), (1.0, 1.0), start, end, keep)
 
     def along(self, start, end, keep=None) -> float:
         """How much of the segment ``start -> end`` runs on curves (its length on marked cells,
@@ -689,6 +676,28 @@ def _curve_points(ax, skip, frame, cell, paths):
             stop = max(int(np.searchsorted(ends, ends[start] - steps[start] + _CHUNK, side="right")), start + 1)
             yield reach, _samples(segments[start:stop], steps[start:stop])
             start = stop
+
+
+def cuts(segments, origin, size, start, end, keep=None) -> int:
+    """How many of the ``segments`` ``(n, 4)`` [pixels] the segment ``start -> end`` crosses
+    outside the marker's square ``keep`` (:meth:`CurveMap.cut`); ``start``, ``end`` and ``keep``
+    are in units of ``size`` [pixels] from ``origin`` [pixels] (axes fraction: the axes' origin
+    and size; pixels: (0, 0) and (1, 1))."""
+    to_px = np.array(size)
+    origin = np.array(origin)
+    p, q = origin + np.asarray(start, float) * to_px, origin + np.asarray(end, float) * to_px
+    if keep is not None:
+        keep = np.r_[origin + np.asarray(keep[:2], float) * to_px, origin + np.asarray(keep[2:], float) * to_px]
+        q = p + _entry(p, q, keep) * (q - p)
+    if not len(segments) or np.allclose(p, q):
+        return 0
+    r, a, t = q - p, segments[:, :2], segments[:, 2:] - segments[:, :2]
+    denominator = r[0] * t[:, 1] - r[1] * t[:, 0]
+    ap = a - p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = (ap[:, 0] * t[:, 1] - ap[:, 1] * t[:, 0]) / denominator
+        v = (ap[:, 0] * r[1] - ap[:, 1] * r[0]) / denominator
+    return int(np.count_nonzero((denominator != 0) & (u >= 0) & (u <= 1) & (v >= 0) & (v < 1)))
 
 
 def _entry(start, end, box) -> float:

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
+from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, cuts, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      font_points, operating_band, set_if_changed, text_size, _overlap, _short_orders)
+                      font_points, operating_band, set_if_changed, text_size, _drawn_segments, _overlap, _short_orders)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -943,7 +943,7 @@ class _CampbellLabels:
             start = nearest_in(box, anchor)
             return distance(box) \
                 + _CROSSING_COST * h / self.to_v * max(self.curves.crossings(start, anchor, keep),
-                                                       self._mode_curves().cut(start, anchor, circle))
+                                                       self._mode_cuts(start, anchor, circle))
 
         def distance(box):
             return box_distance(box * to_px, u / self.to_u, v / self.to_v)
@@ -952,7 +952,7 @@ class _CampbellLabels:
         circle = (u - radius * self.to_u, v - radius * self.to_v, u + radius * self.to_u, v + radius * self.to_v)
 
         def uncrossed(box):
-            return leader_clear(box) and not self._mode_curves().cut(nearest_in(box, anchor), anchor, circle)
+            return leader_clear(box) and not self._mode_cuts(nearest_in(box, anchor), anchor, circle)
 
         # a leader across a mode's curve reads as pointing at that mode (compressor_rotor's
         # '11115' stood over mode 4's line, its leader across it): such a box only where no box
@@ -978,15 +978,18 @@ class _CampbellLabels:
         self.leader_lines.append((start, anchor))
         return box, (start, end)
 
-    def _mode_curves(self):
-        """Where the curves run but the order lines (:class:`CurveMap`, axes fraction), made once
-        per drawing."""
+    def _mode_cuts(self, start, end, keep):
+        """How many pieces of the curves but the order lines the segment ``start -> end`` crosses
+        outside the marker's square ``keep`` (axes fraction, :func:`~._labels.cuts`); the curves'
+        drawn segments are taken once per drawing."""
         if self.mode_map is None:      # place() sets it to None before any leader is placed
             ax = self.ax
             orders = [line for line in ax.get_lines() if line.get_gid() == "order-line"]
-            self.mode_map = CurveMap(ax, self.renderer, units="axes",
-                                     skip=self.leaders + self.critical_leaders + self.key_leaders + orders)
-        return self.mode_map
+            frame = ax.get_window_extent(self.renderer)
+            segments = _drawn_segments(ax, self.leaders + self.critical_leaders + self.key_leaders + orders,
+                                       (frame.x0, frame.y0, frame.x1, frame.y1))
+            self.mode_map = (segments, (frame.x0, frame.y0), (frame.width, frame.height))
+        return cuts(*self.mode_map, start, end, keep)
 
     @staticmethod
     def _show_leader(line, leader, colour):

@@ -1076,7 +1076,8 @@ _GRID_ROWS, _GRID_COLUMNS = 8, 2
 _FAR_ROWS, _FAR_COLUMNS = 24, 4
 #: ... with rows this many times closer than a label's height and gap, where every label is
 #: written (``crossing``): the fan's UCS map had room for '3943' between mode 8's line and mode
-#: 6's above it, 5 to 15 pixels up, that no row met
+#: 6's above it, 5 to 15 pixels up, that no row met; the Campbell diagram's critical-speed labels
+#: too (compressor_rotor at 0:15000:151: the 23 pixels between modes 2 and 3 below '11115' held no row)
 _ROW_SPLIT = 3
 #: labels with fewer boxes than this whose leaders cross no curve are placed first, fewest first
 _FREEDOM = 16

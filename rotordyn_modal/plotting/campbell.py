@@ -7,7 +7,8 @@ import numpy as np
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, cuts, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      font_points, operating_band, set_if_changed, text_size, _drawn_segments, _overlap, _short_orders)
+                      font_points, operating_band, set_if_changed, text_size, _drawn_segments, _overlap, _ROW_SPLIT,
+                      _short_orders)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -48,9 +49,6 @@ _SHARED_COLOUR = "0.15"
 _MARKER_POINTS = 6
 
 
-#: the leader-line labels' grid has rows this many times closer than a label's height and gap
-#: (compressor_rotor at 0:15000:151: the 23 pixels between modes 2 and 3 below '11115' held no row)
-_ROW_SPLIT = 3
 #: the critical-speed note keeps at least this many points off the axes' spines
 _NOTE_MARGIN_POINTS = 4.0
 
@@ -972,11 +970,16 @@ class _CampbellLabels:
             placed.pop()
             return None, None
         start = nearest_in(box, anchor)
+        self.leader_lines.append((start, anchor))
+        return box, (start, self._short_of(start, anchor, clear_px))
+
+    def _short_of(self, start, centre, clear_px):
+        """The end (axes fraction) of a leader line from ``start`` to ``centre`` (axes fraction)
+        stopped ``clear_px`` [pixels] short of ``centre`` (outside its circle)."""
+        u, v = centre
         direction = np.array([(start[0] - u) / self.to_u, (start[1] - v) / self.to_v])
         shorten = clear_px / max(float(np.hypot(*direction)), 1e-9)
-        end = (u + shorten * direction[0] * self.to_u, v + shorten * direction[1] * self.to_v)
-        self.leader_lines.append((start, anchor))
-        return box, (start, end)
+        return (u + shorten * direction[0] * self.to_u, v + shorten * direction[1] * self.to_v)
 
     def _mode_cuts(self, start, end, keep):
         """How many pieces of the curves but the order lines the segment ``start -> end`` crosses
@@ -1055,10 +1058,8 @@ class _CampbellLabels:
         px = np.array([1 / self.to_u, 1 / self.to_v])
         start_px, centres = np.asarray(start) * px, np.asarray(own) * px
         way = centres.mean(axis=0) - start_px
-        target = centres[np.argmax(centres @ way)]
-        direction = target - start_px
-        end = target - max(clear[0] / self.to_u, clear[1] / self.to_v) * direction / max(np.hypot(*direction), 1e-9)
-        return tuple(start), tuple(end / px)
+        target = own[int(np.argmax(centres @ way))]
+        return tuple(start), self._short_of(start, target, max(clear[0] / self.to_u, clear[1] / self.to_v))
 
     def _in_view(self):
         """Indices of the critical speeds whose markers lie inside the axes."""

@@ -534,11 +534,14 @@ def pipes_copied(args):
         for dest, path in piped:
             if path == "-":
                 args.shown_names["/dev/stdin"] = STANDARD_INPUT
-                if _STANDARD_INPUTS[dest] is None:
+                if _STANDARD_INPUTS[dest] is None:      # the ROSS file, read once as /dev/stdin
                     setattr(args, dest, "/dev/stdin")
                     continue
-            duplicate = str(copies.enter_context(piped_copy(path) if path != "-" else _standard_input_copy(dest)))
-            args.shown_names[duplicate] = str(path) if path != "-" else STANDARD_INPUT
+                copy, shown = _standard_input_copy(dest), STANDARD_INPUT
+            else:
+                copy, shown = piped_copy(path), str(path)
+            duplicate = str(copies.enter_context(copy))
+            args.shown_names[duplicate] = shown
             setattr(args, dest, duplicate)
         yield
 
@@ -576,12 +579,12 @@ def _standard_inputs(args) -> list[str]:
     return [typed for _, typed in dashed]
 
 
-def _standard_input_file(args):
-    """``(option, the file)`` when '-' reads a regular file redirected into standard input
-    (``< m.toml``): an output may not name it either (:func:`check_files`)."""
+def _standard_input_file(typed):
+    """``[(option, the file)]`` when '-' (``typed``: the options given it, :func:`_standard_inputs`)
+    reads a regular file redirected into standard input (``< m.toml``): an output may not name it
+    either (:func:`check_files`); else ``[]``."""
     import stat
 
-    typed = _standard_inputs(args)
     try:
         regular = typed and stat.S_ISREG(os.fstat(0).st_mode)
     except OSError:
@@ -611,7 +614,7 @@ def check_files(args) -> None:
             option = as_typed(args, option)      # the spelling typed (--orbit-plot for --plot-orbits)
             if getattr(args, dest, None) == "":   # an empty variable in a script: never "not given"
                 raise InputError(f"{option} '': expected a file name")
-    inputs, outputs = _given(args, "input") + _standard_input_file(args), _given(args, "output")
+    inputs, outputs = _given(args, "input") + _standard_input_file(_standard_inputs(args)), _given(args, "output")
     for option, path in inputs + outputs:
         if "\0" in str(path):
             raise InputError(f"{option} {str(path)!r}: a file name cannot hold a NUL character")

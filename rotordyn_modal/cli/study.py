@@ -12,7 +12,7 @@ import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
 from ._common import (add_alias, add_allow_long, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
-                      show_progress, shown_as_typed, use_agg, whole_number)
+                      show_progress, shown_as_typed, use_agg, whole_number, write_csv)
 from ._resources import add_verbose
 from ._units import ENVIRONMENT, key_kind
 from ..units import to_system, unit_label
@@ -291,15 +291,12 @@ def _write(result, args, folder, kinds=None):
     """The table (its columns in the unit system of ``kinds``, :func:`_column_kinds`); the
     results file is written by the study itself, chunk by chunk; the checkpoint goes once they
     are in place."""
-    from ..io import atomic_write
     from ..io.atomic import after_commit
     from ..study.execution import remove_checkpoint
-    from ._common import CSV_FLOAT_FORMAT
 
     after_commit(lambda: remove_checkpoint(folder))
     if args.table:
-        with atomic_write(args.table, "w", newline="") as handle:
-            _in_units(result.to_dataframe(), kinds).to_csv(handle, index=False, float_format=CSV_FLOAT_FORMAT)
+        write_csv(_in_units(result.to_dataframe(), kinds), args.table)
 
 
 def _report(result, band, kinds=None):

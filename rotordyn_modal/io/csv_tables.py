@@ -155,12 +155,7 @@ def _fast_table(text: str, separator: str, start: int, skip_blank_lines: bool):
         lines = lines[np.array([line not in ("", "\r") for line in physical[1:]], dtype=bool)]
     if cells.shape != (len(lines) + 1, len(header)):
         return None
-    columns = [cells[k].to_numpy(dtype=object)[1:] for k in cells.columns]
-    table = pd.DataFrame({k: pd.Series([cell.strip() for cell in column] if padded else column, dtype=object)
-                          for k, column in enumerate(columns)})
-    table.columns = [name.strip() or f"Unnamed: {k}" for k, name in enumerate(header)]
-    table.attrs["lines"] = lines
-    return table
+    return _frame(header, [cells[k].to_numpy(dtype=object)[1:] for k in cells.columns], lines, strip=padded)
 
 
 #: the characters ``str.strip`` removes that ASCII text may hold, but line breaks
@@ -226,7 +221,6 @@ def _table(rows, path, what: str):
     empty, empty cells beyond the header dropped: a spreadsheet's trailing separators), and
     ``attrs['lines']`` the file line of each row. A cell beyond the header is refused."""
     import numpy as np
-    import pandas as pd
 
     (_, header), body = rows[0], rows[1:]
     header = list(header)
@@ -244,13 +238,22 @@ def _table(rows, path, what: str):
                                  f"({shown[:120]}): expected at most {width} cells on a line (a separator too many?)")
             cells = (cells + [""] * width)[:width]
         kept.append(cells)
-    names = [name.strip() or f"Unnamed: {k}" for k, name in enumerate(header)]
     # cells padded to line up in a text editor or exported so (`` 1.0 ``, `` acc-top-z ``)
     columns = zip(*kept) if kept else [()] * width
-    table = pd.DataFrame({k: pd.Series([cell.strip() for cell in column], dtype=object)
+    return _frame(header, columns, np.array([line for line, _ in body], dtype=np.int64))
+
+
+def _frame(header, columns, lines, strip=True):
+    """The DataFrame of str of the cells ``columns`` (one sequence per column of ``header``,
+    stripped if ``strip``): the header's cells as column names (an empty one ``Unnamed: k``, as
+    pandas named it) and ``attrs['lines']`` the file line ``lines`` (int64 array: pandas copies
+    attrs) of each row."""
+    import pandas as pd
+
+    table = pd.DataFrame({k: pd.Series([cell.strip() for cell in column] if strip else column, dtype=object)
                           for k, column in enumerate(columns)})
-    table.columns = names
-    table.attrs["lines"] = np.array([line for line, _ in body], dtype=np.int64)   # an array: pandas copies attrs
+    table.columns = [name.strip() or f"Unnamed: {k}" for k, name in enumerate(header)]
+    table.attrs["lines"] = lines
     return table
 
 

@@ -519,7 +519,8 @@ class CurveMap:
         self.cell = max(_CELL_POINTS * renderer.points_to_pixels(1.0), 0.5)
         width, height = (max(int(np.ceil(d / self.cell)), 1) for d in self.size)
         grid = np.zeros((height, width), bool)
-        for reach, points in _curve_points(ax, skip, (frame.x0, frame.y0, frame.x1, frame.y1), self.cell):
+        paths = _drawn_paths(ax, skip, (frame.x0, frame.y0, frame.x1, frame.y1))
+        for reach, points in _curve_points(ax, skip, (frame.x0, frame.y0, frame.x1, frame.y1), self.cell, paths):
             marked = np.zeros_like(grid)
             i = np.clip(((points[:, 0] - frame.x0) / self.cell).astype(int), 0, width - 1)
             j = np.clip(((points[:, 1] - frame.y0) / self.cell).astype(int), 0, height - 1)
@@ -528,7 +529,7 @@ class CurveMap:
         self.grid = grid
         self.table = np.zeros((height + 1, width + 1), np.int64)
         self.table[1:, 1:] = grid.cumsum(axis=0).cumsum(axis=1)
-        self._drawn, self._segments = (ax, skip, (frame.x0, frame.y0, frame.x1, frame.y1)), None
+        self._segments = _joined(paths)
 
     def _cells(self, box):
         """Marked cells overlapping ``box`` widened by half a cell (a crossing between two samples)."""
@@ -612,25 +613,9 @@ class CurveMap:
         beside its own curve). ``keep`` is a marker's square: the leader is cut where it meets the
         circle inside it (a curve through the square's corner, outside the circle, counts). A
         curve through the marker (its own) meets a leader aimed at the marker only there."""
-        to_px = np.array(self.size if self.units == "axes" else (1.0, 1.0))
-        origin = np.array(self.origin if self.units == "axes" else (0.0, 0.0))
-        p, q = origin + np.asarray(start, float) * to_px, origin + np.asarray(end, float) * to_px
-        if keep is not None:
-            keep = np.r_[origin + np.asarray(keep[:2], float) * to_px, origin + np.asarray(keep[2:], float) * to_px]
-            q = p + _entry(p, q, keep) * (q - p)
-        if self._segments is None:
-            ax, skip, frame = self._drawn
-            self._segments = _drawn_segments(ax, skip, frame)
-        others = self._segments
-        if not len(others) or np.allclose(p, q):
-            return 0
-        r, a, t = q - p, others[:, :2], others[:, 2:] - others[:, :2]
-        denominator = r[0] * t[:, 1] - r[1] * t[:, 0]
-        ap = a - p
-        with np.errstate(divide="ignore", invalid="ignore"):
-            u = (ap[:, 0] * t[:, 1] - ap[:, 1] * t[:, 0]) / denominator
-            v = (ap[:, 0] * r[1] - ap[:, 1] * r[0]) / denominator
-        return int(np.count_nonzero((denominator != 0) & (u >= 0) & (u <= 1) & (v >= 0) & (v < 1)))
+        if self.units == "axes":
+            return cuts(self._segments, self.origin, self.size, start, end, keep)
+        return cuts(self._segments, (0.0, 0.0), (1.0, 1.0), start, end, keep)
 
     def along(self, start, end, keep=None) -> float:
         """How much of the segment ``start -> end`` runs on curves (its length on marked cells,
@@ -658,40 +643,28 @@ class CurveMap:
         return share * length if self.units == "pixels" else share * length / float(np.hypot(*self.size))
 
 
-def _curve_points(ax, skip, frame, cell):
+def _curve_points(ax, skip, frame, cell, paths):
     """``(reach, points (n, 2))``: points [pixels] every half ``cell`` along each visible curve
-    of ``ax`` inside ``frame`` (and each marker of a line without a line style), in groups of
-    at most :data:`_CHUNK`; ``reach`` [cells]: half the line's width (the marker's size)."""
-    from matplotlib.collections import LineCollection
-
+    of ``ax`` inside ``frame`` (``paths``: :func:`_drawn_paths`) and each marker of a line
+    without a line style, in groups of at most :data:`_CHUNK`; ``reach`` [cells]: half the
+    line's width (the marker's size)."""
     points_px = ax.figure.dpi / 72.0
-    paths = []
     for line in ax.get_lines():
         if line in skip or not line.get_visible():
             continue
+        if line.get_linestyle() not in ("None", "", " ") and line.get_linewidth() != 0:
+            continue
         xy = np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
-        if not len(xy):
+        if not len(xy) or line.get_marker() in ("None", "", " ", None):
             continue
         with np.errstate(all="ignore"):
             display = line.get_transform().transform(xy)
-        if line.get_linestyle() in ("None", "", " ") or line.get_linewidth() == 0:
-            if line.get_marker() not in ("None", "", " ", None):
-                reach = int(round(0.5 * line.get_markersize() * points_px / cell))
-                inside = display[np.all(np.isfinite(display), axis=1)]
-                yield reach, inside[(inside[:, 0] >= frame[0]) & (inside[:, 0] <= frame[2])
-                                    & (inside[:, 1] >= frame[1]) & (inside[:, 1] <= frame[3])]
-            continue
-        paths.append((display, line.get_linewidth()))
-    for collection in ax.collections:
-        if isinstance(collection, LineCollection) and collection.get_visible() and collection not in skip:
-            widths = np.atleast_1d(collection.get_linewidth())
-            transform = collection.get_transform()
-            for n, path in enumerate(collection.get_paths()):
-                paths.append((transform.transform(path.vertices), float(widths[n % len(widths)])))
+        reach = int(round(0.5 * line.get_markersize() * points_px / cell))
+        inside = display[np.all(np.isfinite(display), axis=1)]
+        yield reach, inside[(inside[:, 0] >= frame[0]) & (inside[:, 0] <= frame[2])
+                            & (inside[:, 1] >= frame[1]) & (inside[:, 1] <= frame[3])]
     by_reach = {}
-    for display, width in paths:
-        segments = np.hstack([display[:-1], display[1:]])
-        segments = _clipped(segments[np.all(np.isfinite(segments), axis=1)], frame)
+    for width, segments in paths:
         by_reach.setdefault(int(round(0.5 * width * points_px / cell)), []).append(segments)
     for reach, pieces in by_reach.items():
         segments = np.concatenate(pieces)
@@ -703,6 +676,28 @@ def _curve_points(ax, skip, frame, cell):
             stop = max(int(np.searchsorted(ends, ends[start] - steps[start] + _CHUNK, side="right")), start + 1)
             yield reach, _samples(segments[start:stop], steps[start:stop])
             start = stop
+
+
+def cuts(segments, origin, size, start, end, keep=None) -> int:
+    """How many of the ``segments`` ``(n, 4)`` [pixels] the segment ``start -> end`` crosses
+    outside the marker's square ``keep`` (:meth:`CurveMap.cut`); ``start``, ``end`` and ``keep``
+    are in units of ``size`` [pixels] from ``origin`` [pixels] (axes fraction: the axes' origin
+    and size; pixels: (0, 0) and (1, 1))."""
+    to_px = np.array(size)
+    origin = np.array(origin)
+    p, q = origin + np.asarray(start, float) * to_px, origin + np.asarray(end, float) * to_px
+    if keep is not None:
+        keep = np.r_[origin + np.asarray(keep[:2], float) * to_px, origin + np.asarray(keep[2:], float) * to_px]
+        q = p + _entry(p, q, keep) * (q - p)
+    if not len(segments) or np.allclose(p, q):
+        return 0
+    r, a, t = q - p, segments[:, :2], segments[:, 2:] - segments[:, :2]
+    denominator = r[0] * t[:, 1] - r[1] * t[:, 0]
+    ap = a - p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = (ap[:, 0] * t[:, 1] - ap[:, 1] * t[:, 0]) / denominator
+        v = (ap[:, 0] * r[1] - ap[:, 1] * r[0]) / denominator
+    return int(np.count_nonzero((denominator != 0) & (u >= 0) & (u <= 1) & (v >= 0) & (v < 1)))
 
 
 def _entry(start, end, box) -> float:
@@ -718,9 +713,10 @@ def _entry(start, end, box) -> float:
     return float(min(max(t, 0.0), 1.0))
 
 
-def _drawn_segments(ax, skip, frame):
-    """Segments ``(n, 4)`` [pixels] of the visible lines (with a line style) and line
-    collections of ``ax`` but ``skip``, clipped to ``frame``."""
+def _drawn_paths(ax, skip, frame):
+    """``[(width [points], segments (n, 4) [pixels])]``: each visible line with a line style and
+    each path of the visible line collections of ``ax`` but ``skip``, its finite segments
+    clipped to ``frame``."""
     from matplotlib.collections import LineCollection
 
     paths = []
@@ -729,17 +725,31 @@ def _drawn_segments(ax, skip, frame):
                 or line.get_linewidth() == 0:
             continue
         xy = np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
-        if len(xy) > 1:
+        if len(xy):
             with np.errstate(all="ignore"):
-                paths.append(line.get_transform().transform(xy))
+                paths.append((line.get_transform().transform(xy), line.get_linewidth()))
     for collection in ax.collections:
         if isinstance(collection, LineCollection) and collection.get_visible() and collection not in skip:
+            widths = np.atleast_1d(collection.get_linewidth())
             transform = collection.get_transform()
-            paths += [transform.transform(path.vertices) for path in collection.get_paths() if len(path.vertices) > 1]
-    if not paths:
-        return np.zeros((0, 4))
-    segments = np.concatenate([np.hstack([d[:-1], d[1:]]) for d in paths])
-    return _clipped(segments[np.all(np.isfinite(segments), axis=1)], frame)
+            for n, path in enumerate(collection.get_paths()):
+                paths.append((transform.transform(path.vertices), float(widths[n % len(widths)])))
+    drawn = []
+    for display, width in paths:
+        segments = np.hstack([display[:-1], display[1:]])
+        drawn.append((width, _clipped(segments[np.all(np.isfinite(segments), axis=1)], frame)))
+    return drawn
+
+
+def _joined(paths):
+    """The segments ``(n, 4)`` of all ``paths`` (:func:`_drawn_paths`)."""
+    return np.concatenate([segments for _, segments in paths]) if paths else np.zeros((0, 4))
+
+
+def _drawn_segments(ax, skip, frame):
+    """Segments ``(n, 4)`` [pixels] of the visible lines (with a line style) and line
+    collections of ``ax`` but ``skip``, clipped to ``frame``."""
+    return _joined(_drawn_paths(ax, skip, frame))
 
 
 def _samples(segments, steps):
@@ -1066,7 +1076,8 @@ _GRID_ROWS, _GRID_COLUMNS = 8, 2
 _FAR_ROWS, _FAR_COLUMNS = 24, 4
 #: ... with rows this many times closer than a label's height and gap, where every label is
 #: written (``crossing``): the fan's UCS map had room for '3943' between mode 8's line and mode
-#: 6's above it, 5 to 15 pixels up, that no row met
+#: 6's above it, 5 to 15 pixels up, that no row met; the Campbell diagram's critical-speed labels
+#: too (compressor_rotor at 0:15000:151: the 23 pixels between modes 2 and 3 below '11115' held no row)
 _ROW_SPLIT = 3
 #: labels with fewer boxes than this whose leaders cross no curve are placed first, fewest first
 _FREEDOM = 16

@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
+from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, cuts, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      font_points, operating_band, set_if_changed, text_size, _overlap, _short_orders)
+                      font_points, operating_band, set_if_changed, text_size, _drawn_segments, _overlap, _ROW_SPLIT,
+                      _short_orders)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -48,9 +49,6 @@ _SHARED_COLOUR = "0.15"
 _MARKER_POINTS = 6
 
 
-#: the leader-line labels' grid has rows this many times closer than a label's height and gap
-#: (compressor_rotor at 0:15000:151: the 23 pixels between modes 2 and 3 below '11115' held no row)
-_ROW_SPLIT = 3
 #: the critical-speed note keeps at least this many points off the axes' spines
 _NOTE_MARGIN_POINTS = 4.0
 
@@ -943,7 +941,7 @@ class _CampbellLabels:
             start = nearest_in(box, anchor)
             return distance(box) \
                 + _CROSSING_COST * h / self.to_v * max(self.curves.crossings(start, anchor, keep),
-                                                       self._mode_curves().cut(start, anchor, circle))
+                                                       self._mode_cuts(start, anchor, circle))
 
         def distance(box):
             return box_distance(box * to_px, u / self.to_u, v / self.to_v)
@@ -952,7 +950,7 @@ class _CampbellLabels:
         circle = (u - radius * self.to_u, v - radius * self.to_v, u + radius * self.to_u, v + radius * self.to_v)
 
         def uncrossed(box):
-            return leader_clear(box) and not self._mode_curves().cut(nearest_in(box, anchor), anchor, circle)
+            return leader_clear(box) and not self._mode_cuts(nearest_in(box, anchor), anchor, circle)
 
         # a leader across a mode's curve reads as pointing at that mode (compressor_rotor's
         # '11115' stood over mode 4's line, its leader across it): such a box only where no box
@@ -972,21 +970,29 @@ class _CampbellLabels:
             placed.pop()
             return None, None
         start = nearest_in(box, anchor)
+        self.leader_lines.append((start, anchor))
+        return box, (start, self._short_of(start, anchor, clear_px))
+
+    def _short_of(self, start, centre, clear_px):
+        """The end (axes fraction) of a leader line from ``start`` to ``centre`` (axes fraction)
+        stopped ``clear_px`` [pixels] short of ``centre`` (outside its circle)."""
+        u, v = centre
         direction = np.array([(start[0] - u) / self.to_u, (start[1] - v) / self.to_v])
         shorten = clear_px / max(float(np.hypot(*direction)), 1e-9)
-        end = (u + shorten * direction[0] * self.to_u, v + shorten * direction[1] * self.to_v)
-        self.leader_lines.append((start, anchor))
-        return box, (start, end)
+        return (u + shorten * direction[0] * self.to_u, v + shorten * direction[1] * self.to_v)
 
-    def _mode_curves(self):
-        """Where the curves run but the order lines (:class:`CurveMap`, axes fraction), made once
-        per drawing."""
+    def _mode_cuts(self, start, end, keep):
+        """How many pieces of the curves but the order lines the segment ``start -> end`` crosses
+        outside the marker's square ``keep`` (axes fraction, :func:`~._labels.cuts`); the curves'
+        drawn segments are taken once per drawing."""
         if self.mode_map is None:      # place() sets it to None before any leader is placed
             ax = self.ax
             orders = [line for line in ax.get_lines() if line.get_gid() == "order-line"]
-            self.mode_map = CurveMap(ax, self.renderer, units="axes",
-                                     skip=self.leaders + self.critical_leaders + self.key_leaders + orders)
-        return self.mode_map
+            frame = ax.get_window_extent(self.renderer)
+            segments = _drawn_segments(ax, self.leaders + self.critical_leaders + self.key_leaders + orders,
+                                       (frame.x0, frame.y0, frame.x1, frame.y1))
+            self.mode_map = (segments, (frame.x0, frame.y0), (frame.width, frame.height))
+        return cuts(*self.mode_map, start, end, keep)
 
     @staticmethod
     def _show_leader(line, leader, colour):
@@ -1052,10 +1058,8 @@ class _CampbellLabels:
         px = np.array([1 / self.to_u, 1 / self.to_v])
         start_px, centres = np.asarray(start) * px, np.asarray(own) * px
         way = centres.mean(axis=0) - start_px
-        target = centres[np.argmax(centres @ way)]
-        direction = target - start_px
-        end = target - max(clear[0] / self.to_u, clear[1] / self.to_v) * direction / max(np.hypot(*direction), 1e-9)
-        return tuple(start), tuple(end / px)
+        target = own[int(np.argmax(centres @ way))]
+        return tuple(start), self._short_of(start, target, max(clear[0] / self.to_u, clear[1] / self.to_v))
 
     def _in_view(self):
         """Indices of the critical speeds whose markers lie inside the axes."""

@@ -243,9 +243,9 @@ def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
     mine = np.searchsorted(grid, stiffness)
     found = _lowest_forward(_Roots(*(x[mine] for x in roots)), modes)
     given = grid
-    grid, roots, weighted, order = _resolved(parts, grid, roots, stiffness, modes)   # values added where unclear
+    grid, roots = _resolved(parts, grid, roots, stiffness, modes)   # values added where the following is unclear
     mine = np.searchsorted(grid, stiffness)
-    followed = _follow(parts, roots, weighted, order, mine, modes, named=np.searchsorted(grid, given))
+    followed = _follow(parts, roots, mine, modes, named=np.searchsorted(grid, given))
     curves = tuple(_bearing_curve(model, b, speeds, found) for b in chosen)
     crossings = _constant_crossings(curves, grid, followed) + _curve_crossings_all(parts, curves, grid, followed)
     return UcsMap(stiffness=stiffness, speeds=found, bearings=tuple(b.name for b in chosen), curves=curves,
@@ -723,13 +723,15 @@ class _Followed(NamedTuple):
     names: tuple
 
 
-def _follow(parts, roots, weighted, order, mine, count, named=slice(None)) -> _Followed:
-    """Every root followed over the grid by its shape (``order`` (G, m): label -> root, as
-    :func:`_resolved` returns it with the mass-weighted unit shapes ``weighted`` (G, m, n)), the
-    modes kept that are among the ``count`` lowest forward critical speeds at some of the user's
+def _follow(parts, roots, mine, count, named=slice(None)) -> _Followed:
+    """Follow every root over the grid by its shape (``tracking.track_modes``: the MAC between
+    neighbouring stiffness values, an optimal assignment where it is ambiguous) and keep the
+    modes that are among the ``count`` lowest forward critical speeds at some of the user's
     stiffness values (rows ``mine`` of the grid), numbered by where they first appear on the
     map and their speed there; named by their shapes at the rows ``named`` (default all: the
     grid's values given, not those :func:`_resolved` added)."""
+    weighted = parts.weighted(roots.shapes)
+    order = track_modes(1j * roots.signed, weighted)                   # (G, m): label -> root
     rows = np.arange(len(order))[:, None]
     forward = roots.forward[rows, order]
     speeds = np.where(forward, roots.omega[rows, order], np.nan)
@@ -768,15 +770,10 @@ def _resolved(parts, grid, roots, stiffness, count):
     passing another root, a crossing that finer steps may show to be a veering (two roots coupled
     over a narrow range of stiffness: the curves turn away, their shapes exchanged). The modes
     followed are then those of the stiffness, not of the user's grid, nor of round-off (one decade
-    a step followed a different mode on 1 ulp of change of the values). Returns (grid, roots,
-    weighted, order): with the final grid's mass-weighted unit shapes (G, m, n) and every root
-    followed over it by its shape (``tracking.track_modes``: the MAC between neighbouring
-    stiffness values, an optimal assignment where it is ambiguous; (G, m): label -> root)."""
+    a step followed a different mode on 1 ulp of change of the values). Returns (grid, roots)."""
     weighted, added = parts.weighted(roots.shapes), 0
-    while True:
+    while added < _ADDED_MOST:
         order = track_modes(1j * roots.signed, weighted)
-        if added >= _ADDED_MOST:
-            break
         labels = np.nonzero(_shown(roots, order, np.searchsorted(grid, stiffness), count))[0]
         split = _unclear_steps(roots, weighted, order, labels) & (np.diff(np.log10(grid)) > _FINEST_STEP)
         if not split.any():
@@ -788,7 +785,7 @@ def _resolved(parts, grid, roots, stiffness, count):
         grid = np.r_[grid, new][at]
         roots = _Roots(*(np.concatenate([a, b])[at] for a, b in zip(roots, more)))
         weighted = np.concatenate([weighted, parts.weighted(more.shapes)])[at]
-    return grid, roots, weighted, order
+    return grid, roots
 
 
 def _unclear_steps(roots, weighted, order, labels) -> np.ndarray:

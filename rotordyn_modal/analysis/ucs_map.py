@@ -242,10 +242,7 @@ def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
     roots = parts.roots(grid)
     mine = np.searchsorted(grid, stiffness)
     found = _lowest_forward(_Roots(*(x[mine] for x in roots)), modes)
-    given = grid
-    grid, roots = _resolved(parts, grid, roots, stiffness, modes)   # values added where the following is unclear
-    mine = np.searchsorted(grid, stiffness)
-    followed = _follow(parts, roots, mine, modes, named=np.searchsorted(grid, given))
+    followed = _follow(parts, roots, mine, modes)
     curves = tuple(_bearing_curve(model, b, speeds, found) for b in chosen)
     crossings = _constant_crossings(curves, grid, followed) + _curve_crossings_all(parts, curves, grid, followed)
     return UcsMap(stiffness=stiffness, speeds=found, bearings=tuple(b.name for b in chosen), curves=curves,
@@ -723,86 +720,24 @@ class _Followed(NamedTuple):
     names: tuple
 
 
-def _follow(parts, roots, mine, count, named=slice(None)) -> _Followed:
+def _follow(parts, roots, mine, count) -> _Followed:
     """Follow every root over the grid by its shape (``tracking.track_modes``: the MAC between
     neighbouring stiffness values, an optimal assignment where it is ambiguous) and keep the
     modes that are among the ``count`` lowest forward critical speeds at some of the user's
     stiffness values (rows ``mine`` of the grid), numbered by where they first appear on the
-    map and their speed there; named by their shapes at the rows ``named`` (default all: the
-    grid's values given, not those :func:`_resolved` added)."""
+    map and their speed there."""
     weighted = parts.weighted(roots.shapes)
     order = track_modes(1j * roots.signed, weighted)                   # (G, m): label -> root
     rows = np.arange(len(order))[:, None]
     forward = roots.forward[rows, order]
     speeds = np.where(forward, roots.omega[rows, order], np.nan)
-    shown = _shown(roots, order, mine, count)
+    rank = np.argsort(np.argsort(np.where(roots.forward, roots.omega, np.inf), axis=-1), axis=-1)
+    shown = (forward & (rank[rows, order] < count))[mine].any(axis=0)
     present = forward[mine][:, shown]
     first = present.argmax(axis=0)
     chosen = np.nonzero(shown)[0][np.lexsort((speeds[mine][first, shown], first))]
-    names = _mode_names(parts.model, roots.shapes[rows, order[:, chosen]][named], forward[:, chosen][named])
+    names = _mode_names(parts.model, roots.shapes[rows, order[:, chosen]], forward[:, chosen])
     return _Followed(order[:, chosen], speeds[:, chosen], weighted[rows, order[:, chosen]], names)
-
-
-def _shown(roots, order, mine, count) -> np.ndarray:
-    """Whether each label of ``order`` (G, m) is shown on the map: among the ``count`` lowest forward
-    critical speeds at some of the user's stiffness values (rows ``mine`` of the grid); (m,) bool."""
-    rows = np.arange(len(order))[:, None]
-    forward = roots.forward[rows, order]
-    rank = np.argsort(np.argsort(np.where(roots.forward, roots.omega, np.inf), axis=-1), axis=-1)
-    return (forward & (rank[rows, order] < count))[mine].any(axis=0)
-
-
-#: a step of the grid is followed plainly where each shown mode's MAC with itself across it is at
-#: least this, and its root passes no other root (in ``nu``) there: elsewhere a stiffness value is
-#: added in the step's (logarithmic) middle, until steps are this narrow [decades] ...
-_CLEAR_MAC = 0.9
-_FINEST_STEP = 1e-4
-#: ... or this many values were added (a map that reaches it may depend on its grid)
-_ADDED_MOST = 4000
-#: two roots closer than this (relative) are not in an order (a repeated root)
-_TIED = 1e-9
-
-
-def _resolved(parts, grid, roots, stiffness, count):
-    """The grid (G,) [N/m] and its roots with stiffness values added (log-spaced halves of steps)
-    wherever following the shown modes from one value to the next is unclear
-    (:func:`_unclear_steps`): a shown mode's MAC with itself below ``_CLEAR_MAC``, or its root
-    passing another root, a crossing that finer steps may show to be a veering (two roots coupled
-    over a narrow range of stiffness: the curves turn away, their shapes exchanged). The modes
-    followed are then those of the stiffness, not of the user's grid, nor of round-off (one decade
-    a step followed a different mode on 1 ulp of change of the values). Returns (grid, roots)."""
-    weighted, added = parts.weighted(roots.shapes), 0
-    while added < _ADDED_MOST:
-        order = track_modes(1j * roots.signed, weighted)
-        labels = np.nonzero(_shown(roots, order, np.searchsorted(grid, stiffness), count))[0]
-        split = _unclear_steps(roots, weighted, order, labels) & (np.diff(np.log10(grid)) > _FINEST_STEP)
-        if not split.any():
-            break
-        new = np.sqrt(grid[:-1] * grid[1:])[split]
-        more = parts.roots(new)
-        added += len(new)
-        at = np.argsort(np.r_[grid, new], kind="stable")
-        grid = np.r_[grid, new][at]
-        roots = _Roots(*(np.concatenate([a, b])[at] for a, b in zip(roots, more)))
-        weighted = np.concatenate([weighted, parts.weighted(more.shapes)])[at]
-    return grid, roots
-
-
-def _unclear_steps(roots, weighted, order, labels) -> np.ndarray:
-    """Whether following the modes ``labels`` (L,) over each step of the grid is unclear: a mode's
-    MAC with itself across the step below ``_CLEAR_MAC``, or its root ``nu = 1 / Omega^2`` (the
-    pencil's eigenvalue, continuous where the critical speed passes through infinity) passing
-    another root's (both apart by more than ``_TIED``); ``order`` (G, m), ``weighted`` (G, m, n)
-    mass-weighted unit shapes. Returns (G - 1,) bool."""
-    rows = np.arange(len(order))[:, None]
-    mode = weighted[rows, order[:, labels]]                                          # (G, L, n)
-    itself = np.abs(np.sum(mode[:-1].conj() * mode[1:], axis=-1)) ** 2               # (G - 1, L)
-    with np.errstate(divide="ignore"):
-        nu = (np.sign(roots.signed) / roots.signed ** 2)[rows, order]                # (G, m)
-    gap = nu[:, labels, None] - nu[:, None, :]                                       # (G, L, m)
-    side = np.sign(gap) * (np.abs(gap) > _TIED * np.maximum(np.abs(nu[:, labels, None]), np.abs(nu[:, None, :])))
-    passed = (side[:-1] * side[1:] < 0).any(axis=-1)
-    return ((itself < _CLEAR_MAC) | passed).any(axis=-1)
 
 
 #: a body's four motions, in the order of :func:`_body_energies`, as a rotor's and the stator's words

@@ -33,7 +33,7 @@ from ..errors import InputError
 from ..unbalance_standards import API_SCALE_CAP, api_scale_factor
 from .orbits import orbit_ellipses
 
-__all__ = ["ClearanceCheck", "clearance_check", "CLEARANCE_SHARE", "CLEARANCE_CHECK", "refined_maxima", "case_models"]
+__all__ = ["ClearanceCheck", "clearance_check", "CLEARANCE_SHARE", "CLEARANCE_CHECK"]
 
 #: the share of the minimum diametral running clearance the pk-pk response may reach
 CLEARANCE_SHARE = 0.75
@@ -220,7 +220,8 @@ def _cut_peaks(result, model, mcs, pkpk, together, top=None):
     of ``mcs``) alone. The top of the checked speeds ``top`` [rad/s] too, where the sweep runs
     past it without it (the response still rising there). Not looked for where the AF table's peaks are not (``cut_peak_note``: a
     large model)."""
-    from .unbalance_peaks import cut_maxima, per_source
+    from .unbalance_checks import case_models
+    from .unbalance_peaks import cut_maxima, per_source, refined_maxima
 
     if not model.clearances or result.cut_peak_note:               # the AF table's peaks not looked for either
         return None, None
@@ -229,7 +230,7 @@ def _cut_peaks(result, model, mcs, pkpk, together, top=None):
         return None, None
 
     def solve(at, each):                                         # (n_stations, K): the semi-major axes
-        major = orbit_ellipses(_station_planes(models[each], at), 1.0)[0]
+        major = orbit_ellipses(result.station_planes(models[each], at), 1.0)[0]
         return (major.sum(axis=1) if together else major[:, 0]).astype(complex)
 
     curve = per_source(solve)
@@ -242,96 +243,6 @@ def _cut_peaks(result, model, mcs, pkpk, together, top=None):
         at, value, _ = cut_maxima(curve, result.speeds, pkpk / 2.0, found, half_power=False)
         peaks.append((at, 2.0 * np.abs(value)))
     return np.concatenate([p[0] for p in peaks], axis=2), np.concatenate([p[1] for p in peaks], axis=2)
-
-
-def case_models(result, model, mcs):
-    """The models whose unbalances excite each case of ``result``: ``[model]`` for the model's own
-    unbalances together, else each API case's model (:func:`.unbalance_checks.api_unbalance_cases`
-    of ``mcs`` [rad/s]) in the order of ``result.sources``; None where a case's model is not known
-    (no ``mcs``, or a source that is no API case of it)."""
-    if not result.case_rotors:
-        return [model]
-    from .unbalance_checks import api_unbalance_cases
-
-    cases = dict(api_unbalance_cases(model, mcs)) if mcs is not None else {}
-    if any(name not in cases for name in result.sources):
-        return None
-    return [cases[name] for name in result.sources]
-
-
-def refined_maxima(curve, speeds, pkpk, top=None):
-    """The maxima of each curve between the swept speeds near its swept local maxima, and at the
-    top of the checked speeds: the largest the exact response reaches there, which the swept
-    speeds miss (examples/compressor_rotor.toml at 151 speeds: 9 % low).
-
-    Each interior local maximum of the swept ``pkpk`` is refined between its two neighbours by
-    the AF table's golden-section search (:func:`.unbalance_peaks._refined`), and where the sweep
-    runs past ``top`` without it, the curve is also read at ``top`` itself (the response may still
-    be rising there). The clearance check and the probe limits
-    (:func:`.unbalance_checks.unbalance_checks`) both read these.
-
-    Parameters
-    ----------
-    curve : callable
-        ``curve(s, o, j)``, each shape (K,) -> shape (K,), complex: half the peak-to-peak amplitude
-        (the 0-peak) of curve ``o`` of case ``j`` at the speeds ``s`` [rad/s]
-        (:func:`.unbalance_peaks.per_source`).
-    speeds : ndarray, shape (N,) [rad/s]
-        The swept speeds.
-    pkpk : ndarray, shape (n_curves, n_cases, N) [m]
-        The peak-to-peak amplitude at them.
-    top : float, optional
-        [rad/s] the top of the checked speeds.
-
-    Returns
-    -------
-    at, value : ndarray, shape (n_curves, n_cases, Q)
-        The speeds [rad/s] and the peak-to-peak amplitude there [m], NaN after a curve's last.
-    """
-    from .unbalance_peaks import _refined
-
-    peaks = [_swept_maxima(curve, speeds, pkpk, _refined)]
-    speed = np.abs(speeds)
-    if top is not None and speed.min() < top < speed.max() and not np.any(speed == top):
-        o, j = (index.ravel() for index in np.indices(pkpk.shape[:2]))
-        at = np.full(o.size, top * np.sign(speeds[np.argmax(speed)]))
-        peaks.append((at.reshape(pkpk.shape[:2] + (1,)), 2.0 * np.abs(curve(at, o, j)).reshape(pkpk.shape[:2] + (1,))))
-    return np.concatenate([p[0] for p in peaks], axis=2), np.concatenate([p[1] for p in peaks], axis=2)
-
-
-def _swept_maxima(curve, speeds, pkpk, refined):
-    """Each curve's interior local maxima of the swept ``pkpk`` (n_stations, n_cases, N) [m],
-    refined by ``refined`` (:func:`.unbalance_peaks._refined`) between the swept speeds either
-    side: (speeds [rad/s], pkpk [m]), each shape (n_stations, n_cases, Q), NaN padded."""
-    x, first = np.unique(np.asarray(speeds, dtype=float), return_index=True)
-    y = pkpk[:, :, first]
-    n_st, n_cases = y.shape[:2]
-    top = np.zeros(y.shape, dtype=bool)
-    top[:, :, 1:-1] = (y[:, :, 1:-1] > y[:, :, :-2]) & (y[:, :, 1:-1] >= y[:, :, 2:])
-    o, j, k = np.nonzero(top)
-    if not o.size:
-        return np.full((n_st, n_cases, 0), np.nan), np.full((n_st, n_cases, 0), np.nan)
-    c = refined(curve, {"o": o, "j": j, "a": x[k - 1], "b": x[k + 1]})
-    width = int(top.sum(axis=2).max())
-    at, value = np.full((n_st, n_cases, width), np.nan), np.full((n_st, n_cases, width), np.nan)
-    slot = top.cumsum(axis=2)[o, j, k] - 1
-    at[o, j, slot], value[o, j, slot] = c["at"], 2.0 * np.abs(c["value"])
-    return at, value
-
-
-def _station_planes(model, speeds):
-    """The close-clearance stations' displacement relative to the stator along the transverse
-    axes, shape (n_stations, n_src, K, 2), for ``model``'s unbalances at ``speeds`` (K,) [rad/s]
-    (as :class:`~.unbalance.UnbalanceResult`'s ``clearance_planes``)."""
-    from ..model.geometry import shift_matrices
-    from .unbalance import _clearance_planes, _coordinate_response, unbalance_forces
-
-    sources, w, rotor_forces = unbalance_forces(model, speeds)
-    shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
-    motions = model.dofs.motions([(r.name, False) for r in model.rotors])
-    q = _coordinate_response(model, sources, rotor_forces, np.tile(speeds, len(sources)), w.ravel(), shifts,
-                             motions)
-    return _clearance_planes(model, q, motions, len(sources), len(speeds))
 
 
 def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):

@@ -30,7 +30,7 @@ from ..model import Model
 from ..unbalance_standards import api_analysis_unbalance, api_probe_limit, iso_zone_boundaries, iso_zones
 
 __all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "sensor_groups", "separation_margins",
-           "operating_range"]
+           "operating_range", "case_models"]
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -70,7 +70,7 @@ class UnbalanceChecks:
         [rad/s] the bottom of the checked range.
     probe_peak_speeds, probe_peak_pkpk : ndarray, shape (n_probes, n_cases, Q), or None
         Each probe's maxima of the exact response between the swept speeds and at the MCS
-        (:func:`.clearance.refined_maxima`, as the clearance check) [rad/s] and its peak-to-peak
+        (:func:`.unbalance_peaks.refined_maxima`, as the clearance check) [rad/s] and its peak-to-peak
         displacement there [m], NaN after a curve's last; None where not looked for (no MCS, no
         probe, or a large model: ``UnbalanceResult.cut_peak_note``).
     """
@@ -229,20 +229,19 @@ def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=
 
 def _probe_maxima(result, model, mcs, names, pkpk):
     """The probes' maxima between the swept speeds and at ``mcs`` [rad/s]
-    (:func:`.clearance.refined_maxima`, the clearance check's): (speeds [rad/s], pk-pk [m]),
+    (:func:`.unbalance_peaks.refined_maxima`, the clearance check's): (speeds [rad/s], pk-pk [m]),
     each shape (n_probes, n_cases, Q), from the probes' displacement solved again at the searched
     speeds (each API case's model alone, or the model's sources together: the sum of their
     amplitudes, as ``pkpk`` (n_probes, n_cases, N)); (None, None) without ``mcs`` or probes, or
     where the AF table's peaks are not looked for (``cut_peak_note``: a large model)."""
-    from .clearance import case_models, refined_maxima
-    from .unbalance import _own_source_curve
+    from .unbalance_peaks import refined_maxima
 
     if mcs is None or not names or result.cut_peak_note:
         return None, None
     models = case_models(result, model, mcs)
     if models is None:
         return None, None
-    bases = [_own_source_curve(each, list(names), "displacement") for each in models]
+    bases = [result.source_curve(each, list(names), "displacement") for each in models]
     together, n_src = not result.case_rotors, len(result.sources)
 
     def curve(s, o, j):                                          # (K,): the 0-peak displacement
@@ -256,6 +255,19 @@ def _probe_maxima(result, model, mcs, names, pkpk):
         return out
 
     return refined_maxima(curve, result.speeds, pkpk, mcs)
+
+
+def case_models(result, model, mcs):
+    """The models whose unbalances excite each case of ``result``: ``[model]`` for the model's own
+    unbalances together, else each API case's model (:func:`api_unbalance_cases`
+    of ``mcs`` [rad/s]) in the order of ``result.sources``; None where a case's model is not known
+    (no ``mcs``, or a source that is no API case of it)."""
+    if not result.case_rotors:
+        return [model]
+    cases = dict(api_unbalance_cases(model, mcs)) if mcs is not None else {}
+    if any(name not in cases for name in result.sources):
+        return None
+    return [cases[name] for name in result.sources]
 
 
 def operating_range(operating) -> tuple:

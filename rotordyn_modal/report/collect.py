@@ -1069,7 +1069,7 @@ def _probe_limits(data):
 def probe_limit_table(data):
     """The API 617 probe-limit rows of ``data.results["checks"]`` (its ``to_dataframe``: each
     probe's maxima between the swept speeds and at the MCS included, the clearance check's
-    refinement, :func:`..analysis.clearance.refined_maxima`), each probe's value raised to the
+    refinement, :func:`..analysis.unbalance_peaks.refined_maxima`), each probe's value raised to the
     largest peak of its case between 0 and the MCS that the AF table found between the swept
     speeds (``data.results["peaks"]``, 0-peak: twice it is the peak-to-peak) where that is
     larger, with its speed and verdict: the sweep's largest misses the top of a sharp peak

@@ -220,31 +220,21 @@ def _cut_peaks(result, model, mcs, pkpk, together, top=None):
     of ``mcs``) alone. The top of the checked speeds ``top`` [rad/s] too, where the sweep runs
     past it without it (the response still rising there). Not looked for where the AF table's peaks are not (``cut_peak_note``: a
     large model)."""
-    from .unbalance_peaks import _refined, cut_maxima, per_source
+    from .unbalance_checks import case_models
+    from .unbalance_peaks import cut_maxima, per_source, refined_maxima
 
     if not model.clearances or result.cut_peak_note:               # the AF table's peaks not looked for either
         return None, None
-    if together:
-        models = [model]
-    else:
-        from .unbalance_checks import api_unbalance_cases
-
-        cases = dict(api_unbalance_cases(model, mcs)) if mcs is not None else {}
-        if any(name not in cases for name in result.sources):
-            return None, None
-        models = [cases[name] for name in result.sources]
+    models = case_models(result, model, mcs)
+    if models is None:
+        return None, None
 
     def solve(at, each):                                         # (n_stations, K): the semi-major axes
-        major = orbit_ellipses(result.clearance_planes_at(models[each], at), 1.0)[0]
+        major = orbit_ellipses(result.station_planes(models[each], at), 1.0)[0]
         return (major.sum(axis=1) if together else major[:, 0]).astype(complex)
 
     curve = per_source(solve)
-    peaks = [_swept_maxima(curve, result.speeds, pkpk, _refined)]
-    speed = np.abs(result.speeds)
-    if top is not None and speed.min() < top < speed.max() and not np.any(speed == top):
-        o, j = (index.ravel() for index in np.indices(pkpk.shape[:2]))
-        at = np.full(o.size, top * np.sign(result.speeds[np.argmax(speed)]))
-        peaks.append((at.reshape(pkpk.shape[:2] + (1,)), 2.0 * np.abs(curve(at, o, j)).reshape(pkpk.shape[:2] + (1,))))
+    peaks = [refined_maxima(curve, result.speeds, pkpk, top)]
     if result.resonance_speeds is not None:
         found = [(s[np.isfinite(s)], b[np.isfinite(b)]) for s, b in zip(result.resonance_speeds,
                                                                           result.resonance_bands)]
@@ -253,26 +243,6 @@ def _cut_peaks(result, model, mcs, pkpk, together, top=None):
         at, value, _ = cut_maxima(curve, result.speeds, pkpk / 2.0, found, half_power=False)
         peaks.append((at, 2.0 * np.abs(value)))
     return np.concatenate([p[0] for p in peaks], axis=2), np.concatenate([p[1] for p in peaks], axis=2)
-
-
-def _swept_maxima(curve, speeds, pkpk, refined):
-    """Each curve's interior local maxima of the swept ``pkpk`` (n_stations, n_cases, N) [m],
-    refined by ``refined`` (:func:`.unbalance_peaks._refined`) between the swept speeds either
-    side: (speeds [rad/s], pkpk [m]), each shape (n_stations, n_cases, Q), NaN padded."""
-    x, first = np.unique(np.asarray(speeds, dtype=float), return_index=True)
-    y = pkpk[:, :, first]
-    n_st, n_cases = y.shape[:2]
-    top = np.zeros(y.shape, dtype=bool)
-    top[:, :, 1:-1] = (y[:, :, 1:-1] > y[:, :, :-2]) & (y[:, :, 1:-1] >= y[:, :, 2:])
-    o, j, k = np.nonzero(top)
-    if not o.size:
-        return np.full((n_st, n_cases, 0), np.nan), np.full((n_st, n_cases, 0), np.nan)
-    c = refined(curve, {"o": o, "j": j, "a": x[k - 1], "b": x[k + 1]})
-    width = int(top.sum(axis=2).max())
-    at, value = np.full((n_st, n_cases, width), np.nan), np.full((n_st, n_cases, width), np.nan)
-    slot = top.cumsum(axis=2)[o, j, k] - 1
-    at[o, j, slot], value[o, j, slot] = c["at"], 2.0 * np.abs(c["value"])
-    return at, value
 
 
 def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):
@@ -286,7 +256,7 @@ def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):
     scaling = np.full((len(rotors), n_cases), "unscaled: no MCS", dtype=object)
     if mcs is None:
         return scale, scaling
-    probes = unbalance_checks(result, model, mcs=mcs, min_speed=min_speed)
+    probes = unbalance_checks(result, model, mcs=mcs, min_speed=min_speed, refine=False)
     window, where = _operating_speeds(np.abs(result.speeds), min_speed, mcs)
     rotor_of = {s.name: s.rotor for s in model.sensors}
     for s, rotor in enumerate(rotors):

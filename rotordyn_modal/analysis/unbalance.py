@@ -462,16 +462,25 @@ class UnbalanceResult:
         return separation_margins(self, operating, outputs=outputs, amplitude=amplitude or self.amplitude_kind)
 
     @staticmethod
-    def clearance_planes_at(model, speeds):
+    def station_planes(model, speeds):
         """The close-clearance stations' displacement relative to the stator along the transverse
-        axes, shape (n_stations, n_src, K, 2), for ``model``'s unbalances at ``speeds`` (K,)
-        [rad/s] (as ``clearance_planes``): the clearance check's peaks between swept speeds."""
+        axes, shape (n_stations, n_src, K, 2), for ``model``'s unbalances at ``speeds`` (K,) [rad/s]
+        (as a result's ``clearance_planes``); the clearance check's search calls it through a result,
+        so that it need not import this module (which imports it)."""
         sources, w, rotor_forces = unbalance_forces(model, speeds)
         shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
         motions = model.dofs.motions([(r.name, False) for r in model.rotors])
         q = _coordinate_response(model, sources, rotor_forces, np.tile(speeds, len(sources)), w.ravel(), shifts,
                                  motions)
         return _clearance_planes(model, q, motions, len(sources), len(speeds))
+
+    @staticmethod
+    def source_curve(model, outputs, quantity: str = "displacement"):
+        """``curve(s, o, j)``: the response of ``model``'s sensor ``outputs[o[k]]`` to its source
+        ``j[k]`` alone at the speed ``s[k]`` [rad/s], shape (K,), complex (the AF table's search's,
+        :func:`_own_source_curve`); the checks' searches call it through a result, so that they
+        need not import this module (which imports them)."""
+        return _own_source_curve(model, outputs, quantity)
 
     def clearance_check(self, model, mcs=None, min_speed: float = 0.0, trip_speed=None, **options):
         """The API 617 / 684 clearance check at the model's close-clearance stations, the response

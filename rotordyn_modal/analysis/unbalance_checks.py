@@ -30,7 +30,7 @@ from ..model import Model
 from ..unbalance_standards import api_analysis_unbalance, api_probe_limit, iso_zone_boundaries, iso_zones
 
 __all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "sensor_groups", "separation_margins",
-           "operating_range"]
+           "operating_range", "case_models"]
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -66,6 +66,13 @@ class UnbalanceChecks:
         is given (:attr:`iso_span`).
     iso_span : (float, float) or None
         [rad/s] the operating range the ISO zones judge (None: the checked range).
+    min_speed : float
+        [rad/s] the bottom of the checked range.
+    probe_peak_speeds, probe_peak_pkpk : ndarray, shape (n_probes, n_cases, Q), or None
+        Each probe's maxima of the exact response between the swept speeds and at the MCS
+        (:func:`.unbalance_peaks.refined_maxima`, as the clearance check) [rad/s] and its peak-to-peak
+        displacement there [m], NaN after a curve's last; None where not looked for (no MCS, no
+        probe, or a large model: ``UnbalanceResult.cut_peak_note``).
     """
 
     speeds: np.ndarray
@@ -81,6 +88,9 @@ class UnbalanceChecks:
     cases: tuple = ("",)
     iso_checked: np.ndarray | None = None
     iso_span: tuple | None = None
+    min_speed: float = 0.0
+    probe_peak_speeds: np.ndarray | None = None
+    probe_peak_pkpk: np.ndarray | None = None
 
     @property
     def zone_checked(self) -> np.ndarray:
@@ -92,7 +102,8 @@ class UnbalanceChecks:
         (then ``case`` for the API unbalance cases).
 
         ``value`` is the largest over the checked speeds (at ``speed_rpm``): the probe's
-        peak-to-peak displacement [m] against the API 617 limit A1 [m] (``verdict`` pass when
+        peak-to-peak displacement [m] (its maxima between the swept speeds included:
+        :attr:`probe_peak_pkpk`) against the API 617 limit A1 [m] (``verdict`` pass when
         ``value <= limit``), or the casing's RMS velocity [m/s] in its ISO 20816-3 zone
         (``limit`` the B/C boundary; ``verdict`` pass in zones A and B).
         """
@@ -101,8 +112,8 @@ class UnbalanceChecks:
         rows = []
         for c, case in enumerate(self.cases):
             if self.mcs is not None:
-                for name, values, limit in zip(self.probes, self.probe_pkpk[:, c], self.probe_limits):
-                    k, value = self._largest(values)
+                for p, (name, values, limit) in enumerate(zip(self.probes, self.probe_pkpk[:, c], self.probe_limits)):
+                    k, value = self._probe_largest(p, c, *self._largest(values))
                     rows.append({"output": name, "check": "API 617 probe limit", "speed_rpm": k, "value": value,
                                  "amplitude": "peak-to-peak", "limit": limit,
                                  "verdict": _verdict(value, value <= limit), "zone": "", "case": case})
@@ -126,6 +137,20 @@ class UnbalanceChecks:
         k = int(np.argmax(masked))
         return float(self.speeds[k] * 30 / np.pi), float(values[k])
 
+    def _probe_largest(self, p, c, speed_rpm, value):
+        """(speed [rpm], value [m]) of probe ``p``'s largest pk-pk in case ``c``: the swept
+        largest (``speed_rpm``, ``value``) or, where larger, its largest maximum between the swept
+        speeds in the checked range (:attr:`probe_peak_pkpk`)."""
+        if self.probe_peak_pkpk is None or not np.isfinite(value):
+            return speed_rpm, value
+        at, peak = self.probe_peak_speeds[p, c], self.probe_peak_pkpk[p, c]
+        speed = np.abs(at)
+        inside = np.isfinite(at) & (speed >= self.min_speed) & (speed <= self.mcs * (1 + 1e-12))
+        if not inside.any():
+            return speed_rpm, value
+        m = np.flatnonzero(inside)[np.argmax(peak[inside])]
+        return (float(at[m] * 30 / np.pi), float(peak[m])) if peak[m] > value else (speed_rpm, value)
+
     def _group_support(self):
         group, support = self.iso_class.replace("group ", "").split(", ")
         return int(group), support
@@ -137,7 +162,7 @@ def _verdict(value, passed) -> str:
 
 
 def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=None,
-                     iso_support=None, iso_range=None) -> UnbalanceChecks:
+                     iso_support=None, iso_range=None, refine: bool = True) -> UnbalanceChecks:
     """API 617 probe limits and ISO 20816-3 zones of ``result`` (see the module's text).
 
     Parameters
@@ -158,6 +183,9 @@ def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=
         the sweep in it, steady operation (ISO 20816-3 clause 1: the zones apply to steady-state
         operation at the nominal operating speed range, not to transient run-up or run-down);
         default: the checked range (``min_speed`` to ``mcs``).
+    refine : bool
+        Whether the probes' maxima between the swept speeds are looked for
+        (:attr:`UnbalanceChecks.probe_peak_pkpk`; default True); False: the swept speeds only.
     """
     if mcs is not None and not (np.isfinite(mcs) and mcs > 0):
         raise InputError(f"maximum continuous speed {mcs!r} rad/s: expected a finite speed > 0")
@@ -184,15 +212,62 @@ def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=
     # the sources together (one signal), or each API case alone
     together = not result.case_rotors
     combine = (lambda a: a.sum(axis=1, keepdims=True)) if together else (lambda a: a)
+    probe_pkpk = combine(2 * _derivative(result, probes, w, 0))
+    peak_speeds, peak_pkpk = _probe_maxima(result, model, mcs, [result.outputs[i] for i in probes], probe_pkpk) \
+        if refine else (None, None)
     return UnbalanceChecks(
         speeds=result.speeds, checked=checked, mcs=mcs,
         probes=tuple(result.outputs[i] for i in probes),
-        probe_pkpk=combine(2 * _derivative(result, probes, w, 0)),
+        probe_pkpk=probe_pkpk,
         probe_limits=limits,
         casing=tuple(result.outputs[i] for i in casing),
         casing_velocity_rms=np.sqrt(combine(_derivative(result, casing, w, 1) ** 2 / 2)),
         zone_boundaries=bounds, iso_class="" if bounds is None else f"group {iso_group}, {iso_support}",
-        cases=("",) if together else tuple(result.sources), iso_checked=iso_checked, iso_span=span)
+        cases=("",) if together else tuple(result.sources), iso_checked=iso_checked, iso_span=span,
+        min_speed=float(min_speed), probe_peak_speeds=peak_speeds, probe_peak_pkpk=peak_pkpk)
+
+
+def _probe_maxima(result, model, mcs, names, pkpk):
+    """The probes' maxima between the swept speeds and at ``mcs`` [rad/s]
+    (:func:`.unbalance_peaks.refined_maxima`, the clearance check's): (speeds [rad/s], pk-pk [m]),
+    each shape (n_probes, n_cases, Q), from the probes' displacement solved again at the searched
+    speeds (each API case's model alone, or the model's sources together: the sum of their
+    amplitudes, as ``pkpk`` (n_probes, n_cases, N)); (None, None) without ``mcs`` or probes, or
+    where the AF table's peaks are not looked for (``cut_peak_note``: a large model)."""
+    from .unbalance_peaks import refined_maxima
+
+    if mcs is None or not names or result.cut_peak_note:
+        return None, None
+    models = case_models(result, model, mcs)
+    if models is None:
+        return None, None
+    bases = [result.source_curve(each, list(names), "displacement") for each in models]
+    together, n_src = not result.case_rotors, len(result.sources)
+
+    def curve(s, o, j):                                          # (K,): the 0-peak displacement
+        s, o, j = np.asarray(s, dtype=float), np.asarray(o, dtype=int), np.asarray(j, dtype=int)
+        if together:
+            return sum(np.abs(bases[0](s, o, np.full(o.shape, k))) for k in range(n_src)) + 0j
+        out = np.empty(s.shape, dtype=complex)
+        for each in np.unique(j):
+            mine = np.flatnonzero(j == each)
+            out[mine] = bases[each](s[mine], o[mine], np.zeros(mine.size, dtype=int))
+        return out
+
+    return refined_maxima(curve, result.speeds, pkpk, mcs)
+
+
+def case_models(result, model, mcs):
+    """The models whose unbalances excite each case of ``result``: ``[model]`` for the model's own
+    unbalances together, else each API case's model (:func:`api_unbalance_cases`
+    of ``mcs`` [rad/s]) in the order of ``result.sources``; None where a case's model is not known
+    (no ``mcs``, or a source that is no API case of it)."""
+    if not result.case_rotors:
+        return [model]
+    cases = dict(api_unbalance_cases(model, mcs)) if mcs is not None else {}
+    if any(name not in cases for name in result.sources):
+        return None
+    return [cases[name] for name in result.sources]
 
 
 def operating_range(operating) -> tuple:

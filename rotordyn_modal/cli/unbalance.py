@@ -47,7 +47,8 @@ Standards (docs/standards.md): --mcs (maximum continuous speed of the reference 
 gives each proximity probe (measure = "relative") the API 617 limit
 A1 = 25.4 um sqrt(12000/N), at most 25.4 um peak-to-peak (N the probe's rotor's MCS in
 rpm), checked on the probe's peak-to-peak displacement over the speeds from --min-speed
-(default 0) to --mcs (a sweep stopping below --mcs, or below --trip-speed, is
+(default 0) to --mcs, its maxima between swept speeds and the MCS itself included (as the
+clearance check: each swept local maximum refined on the exact response) (a sweep stopping below --mcs, or below --trip-speed, is
 warned of: the speeds above it go unchecked); --iso-group 1|2 with --iso-support
 rigid|flexible evaluates the RMS vibration velocity of every stator (casing) sensor in the ISO 20816-3 zones A-D over the
 same speeds (the whole sweep without --mcs), or over --operating-range where it is given (the

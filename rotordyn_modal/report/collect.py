@@ -1067,12 +1067,15 @@ def _probe_limits(data):
 
 
 def probe_limit_table(data):
-    """The API 617 probe-limit rows of ``data.results["checks"]`` (its ``to_dataframe``), each
-    probe's value raised to the largest peak of its case between 0 and the MCS that the AF table
-    found between the swept speeds (``data.results["peaks"]``, 0-peak: twice it is the
-    peak-to-peak), with its speed and verdict: the sweep's largest misses the top of a sharp
-    peak (examples/compressor_rotor.toml at 41 speeds: 35.7 µm pk-pk at a swept 5,841 rpm, the
-    AF table's peak 57.4 µm at 5,726 rpm)."""
+    """The API 617 probe-limit rows of ``data.results["checks"]`` (its ``to_dataframe``: each
+    probe's maxima between the swept speeds and at the MCS included, the clearance check's
+    refinement, :func:`..analysis.unbalance_peaks.refined_maxima`), each probe's value raised to the
+    largest peak of its case between 0 and the MCS that the AF table found between the swept
+    speeds (``data.results["peaks"]``, 0-peak: twice it is the peak-to-peak) where that is
+    larger, with its speed and verdict: the sweep's largest misses the top of a sharp peak
+    (examples/compressor_rotor.toml at 41 speeds: 35.7 µm pk-pk at a swept 5,841 rpm, the AF
+    table's peak 57.4 µm at 5,726 rpm; at 151 speeds 52.1 µm at 5,686 rpm, which the AF
+    table's 3 dB search does not look past, the refined maximum 57.4 µm)."""
     checks = data.results["checks"]
     table = checks.to_dataframe()
     table = table[table["check"] == "API 617 probe limit"].copy()

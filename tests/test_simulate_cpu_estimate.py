@@ -77,7 +77,10 @@ def test_the_command_line_refuses_that_run_in_one_line_before_any_work(backend, 
     code = main(["simulate", str(path), "--speed", str(SPEED * 30 / np.pi), "--duration", repr(duration),
                  "--excitation", "kick", "--impulse-size", "1e-18", "--samples", "3", "--backend", backend,
                  "--out", str(out)])
-    lines = capsys.readouterr().err.strip().splitlines()
+    # the model's own conditioning warning (its casing's 1.1e-11 kg m^2 roll inertia is the stiff
+    # mode: docs/theory.md section 8, the spread of masses) is not part of the refusal
+    lines = [line for line in capsys.readouterr().err.strip().splitlines()
+             if "times the scale of what it holds" not in line]
     assert code == 2 and not out.exists()
     assert len(lines) == 1 and lines[0].startswith(f"rotordyn-modal simulate: error: --duration {duration!r}: "), lines
     assert "integrator steps for the fastest mode the impulse excites" in lines[0] and "--allow-long" in lines[0]

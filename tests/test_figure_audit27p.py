@@ -15,18 +15,11 @@ import pytest
 
 import rotordyn_modal as rdm
 
+from test_figure_audit27o import _ray
+
 matplotlib.use("Agg")
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-
-
-def _ray(line) -> bool:
-    """An order line: frequency proportional to speed (a ray from the origin), in data units."""
-    x, y = (np.asarray(v, float) for v in (line.get_xdata(), line.get_ydata()))
-    if line.get_transform() is not line.axes.transData or len(x) < 3 or not np.all(np.isfinite(x * y)):
-        return False
-    k = np.abs(x) > 0
-    return bool(k.sum() >= 2 and np.allclose(y[k] / x[k], y[k][0] / x[k][0], rtol=1e-9) and np.all(y[~k] == 0))
 
 
 def _crossed_mode_curves(fig, ax, critical):

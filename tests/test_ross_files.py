@@ -324,18 +324,24 @@ def _model(name: str, with_outputs: bool = False):
 def test_lateral_modes_equal_rosss(name):
     """Every lateral root ROSS found (the lowest 16 at each speed) is a root of the imported
     model to 1e-6 relative, one to one, and its log decrement agrees to 1e-6."""
-    import rotordyn_modal as rdm
-
     model = _model(name)
     for case in reference(name)["modal"]:
-        ross = np.array(case["eigenvalues_re"]) + 1j * np.array(case["eigenvalues_im"])
-        ours = np.asarray(rdm.modal(model, case["speed"]).eigenvalues)
-        nearest = [int(np.argmin(np.abs(ours - lam))) for lam in ross]
-        assert len(set(nearest)) == len(nearest), (name, case["speed"])
-        error = np.abs(ours[nearest] - ross) / np.abs(ross)
-        assert error.max() <= 1e-6, (name, case["speed"], error.max())
-        log_dec = -2 * np.pi * ours[nearest].real / np.abs(ours[nearest].imag)
-        np.testing.assert_allclose(log_dec, case["log_dec"], rtol=1e-6, atol=1e-6)
+        assert_roots_as_ross(model, case, name)
+
+
+def assert_roots_as_ross(model, case, name):
+    """Every root ROSS found at ``case["speed"]`` is one of ``model``'s to 1e-6 relative, one to
+    one, and its log decrement agrees to 1e-6."""
+    import rotordyn_modal as rdm
+
+    ross = np.array(case["eigenvalues_re"]) + 1j * np.array(case["eigenvalues_im"])
+    ours = np.asarray(rdm.modal(model, case["speed"]).eigenvalues)
+    nearest = [int(np.argmin(np.abs(ours - lam))) for lam in ross]
+    assert len(set(nearest)) == len(nearest), (name, case["speed"])
+    error = np.abs(ours[nearest] - ross) / np.abs(ross)
+    assert error.max() <= 1e-6, (name, case["speed"], error.max())
+    log_dec = -2 * np.pi * ours[nearest].real / np.abs(ours[nearest].imag)
+    np.testing.assert_allclose(log_dec, case["log_dec"], rtol=1e-6, atol=1e-6)
 
 
 @pytest.mark.parametrize("name", ROTORS)

@@ -30,6 +30,8 @@ import pytest
 from rotordyn_modal.cli.main import main
 from rotordyn_modal.errors import ModelError, ModelWarning
 
+from test_ross_files import assert_roots_as_ross
+
 DATA = Path(__file__).parent / "data" / "ross"
 ROTORS = ["friswell_5_9_4", "ball_roller_mixed", "damping_geometry", "tables_linear_tapered"]
 
@@ -63,14 +65,7 @@ def test_lateral_roots_and_log_decrements_equal_rosss_over_speed(name, tmp_path)
     for case in _reference(name)["modal"]:
         if _defective_at_rest(name, case["speed"]):
             continue   # test_defective_roots_at_rest_are_the_uncoupled_rotors
-        ross = np.array(case["eigenvalues_re"]) + 1j * np.array(case["eigenvalues_im"])
-        ours = np.asarray(rdm.modal(model, case["speed"]).eigenvalues)
-        nearest = [int(np.argmin(np.abs(ours - lam))) for lam in ross]
-        assert len(set(nearest)) == len(nearest), (name, case["speed"])
-        error = np.abs(ours[nearest] - ross) / np.abs(ross)
-        assert error.max() <= 1e-6, (name, case["speed"], error.max())
-        log_dec = -2 * np.pi * ours[nearest].real / np.abs(ours[nearest].imag)
-        np.testing.assert_allclose(log_dec, case["log_dec"], rtol=1e-6, atol=1e-6)
+        assert_roots_as_ross(model, case, name)
 
 
 def test_defective_roots_at_rest_are_the_uncoupled_rotors(tmp_path):

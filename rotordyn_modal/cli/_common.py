@@ -461,9 +461,12 @@ def _longest_known(pieces, is_known) -> list[str]:
 
 def add_input_file(parser, *flags, **kwargs):
     """``parser.add_argument`` for a file the command reads: no output may name it
-    (:func:`check_files`, run for every command before its work)."""
+    (:func:`check_files`, run for every command before its work). The help of an input that
+    reads '-' (:data:`_STANDARD_INPUTS`) says so."""
     action = parser.add_argument(*flags, **kwargs)
     action.file_role = "input"
+    if action.dest in _STANDARD_INPUTS and action.help and STANDARD_INPUT not in action.help:
+        action.help += f"; '-' reads it from {STANDARD_INPUT}"
     return action
 
 

@@ -151,9 +151,23 @@ def implausible(model, units: str = "si") -> list[str]:
 
 def _spread_lines(model) -> list[str]:
     """:func:`stiffness_spread_lines` and :func:`maxwell_spread_lines`, the stiffness scales of
-    the machine found once for both (:func:`_support_scales`)."""
+    the machine found once for both (:func:`_support_scales`). A model they do not refuse is
+    marked, so that :func:`refuse_lost_digits` does not look again."""
     parts = _support_scales(model)
-    return stiffness_spread_lines(model, parts) + maxwell_spread_lines(model, parts)
+    lines = stiffness_spread_lines(model, parts) + maxwell_spread_lines(model, parts)
+    model._digits_checked = True
+    return lines
+
+
+def refuse_lost_digits(model) -> None:
+    """Refuse ``model`` (:class:`ModelError`) where a support or a Maxwell branch leaves its low
+    modes no digit in double precision, as ``load_model`` and ``check`` do: the check every
+    analysis makes (:class:`SpeedLinearForm`), so that a model built in Python
+    (``Model.from_dict``, ``Model.variant``: no ``implausible``) or a study's variant gives no
+    silently wrong answer. Looked at once per model; the warnings below the refusal are
+    :func:`implausible`'s."""
+    if not getattr(model, "_digits_checked", False):
+        _spread_lines(model)
 
 
 #: the largest radial running clearance [m] of a close-clearance station that draws no warning:
@@ -340,6 +354,7 @@ class SpeedLinearForm:
         else:
             self._dense = constant_matrices(model)
             self._inverse = _mass_inverse(self._dense.M, model)
+        refuse_lost_digits(model)
         self.n_dof = model.dofs.n if self._dense is None else self._dense.M.shape[0]
         # the Maxwell branches as 6x6 blocks on the stator's motion: their n x n arrays
         # (``branch_stiffness``) are made only where an analysis asks for them

@@ -868,9 +868,8 @@ def _returning(columns, total, entering, k, speeds, values, weighted) -> dict:
     """The roots of ``entering`` (tracked columns at speed ``k``) that are a root come back to the
     lowest modes: ``{j: its former result column}``.
 
-    A result column whose root left the lowest modes before speed ``k - 1`` (none of
-    ``columns[k - 1]`` (the result column of each tracked root at the speeds before ``k``) holds
-    it) is given back to an entering root as tracking would continue a mode over an unsure step
+    A result column whose root left the lowest modes before speed ``k`` (none of the tracked
+    roots at speed ``k - 1`` is in it) is given back to an entering root as tracking would continue a mode over an unsure step
     (:mod:`.tracking`): the entering root's weighted shape has a MAC of at least
     ``_CONFIDENT_MAC`` with the column's last shape, and it lies within ``_KEPT_DISTANCE`` of
     |lambda| of the column's last root or of that root extrapolated (linearly in speed, from its
@@ -1028,8 +1027,9 @@ def _unsure_parts(lam, rows) -> list:
     roots ``lam`` (P, m), weighted shapes ``rows`` (P, m, n), is unsure: some root's weighted shape
     has a MAC below the tracking's ``_CONFIDENT_MAC`` with that of the root it is paired with, and
     the root moved at least half the way to the nearest other root (its pairing told by neither
-    its shape nor its value). A repeated root (a rotor's forward and backward modes at rest) has
-    no shape of its own: its parts stay unsure down to the finest."""
+    its shape nor its value). A repeated root's copies (a rotor's forward and backward modes at
+    rest), whose shapes are any basis of their eigenspace, are one root (:func:`_step_link`): the
+    nearest other root is one of another value."""
     from ._vectors import mac_matrix
     from .tracking import _CONFIDENT_MAC
 
@@ -1039,7 +1039,7 @@ def _unsure_parts(lam, rows) -> list:
         a, b = lam[p, order[p]], lam[p + 1, order[p + 1]]
         mac = np.diagonal(mac_matrix(rows[p, order[p]], rows[p + 1, order[p + 1]]))
         gap = np.abs(a[:, None] - a[None, :])
-        np.fill_diagonal(gap, np.inf)
+        gap[gap <= _SAME_VALUE * np.abs(a)[:, None]] = np.inf       # itself, and a repeated root's copies
         moved = np.abs(b - a) >= 0.5 * gap.min(axis=1)
         if np.any((mac < _CONFIDENT_MAC) & moved):
             unsure.append(p)

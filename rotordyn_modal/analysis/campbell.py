@@ -951,7 +951,8 @@ def _links_of_steps(stack, speeds, values, steps, count) -> dict:
     ends where a step of them is unsure (:func:`_check_grids`): the pairing does not depend on the
     sweep's step."""
     try:
-        grids, lam, rows = _check_grids(stack, speeds, steps, min(count + _EXTRA_ROOTS, stack_root_count(stack)))
+        grids, lam, rows = _check_grids(stack, speeds, steps, count,
+                                        min(count + _EXTRA_ROOTS, stack_root_count(stack)))
     except InputError:                               # too long to solve again: the tracking stands
         return {}
     links = {}
@@ -969,11 +970,11 @@ def _links_of_steps(stack, speeds, values, steps, count) -> dict:
 _CHECK_LEVELS = 6
 
 
-def _check_grids(stack, speeds, steps, more):
+def _check_grids(stack, speeds, steps, count, more):
     """The check's speeds over each doubtful step and its ``more`` lowest roots there.
 
-    Each step is halved where the check's tracking over a part of it is unsure
-    (:func:`_unsure_parts`), up to :data:`_CHECK_LEVELS` times, the new speeds of all steps solved
+    Each step is halved where the check's tracking over a part of it is unsure for one of the
+    ``count`` lowest roots (:func:`_unsure_parts`), up to :data:`_CHECK_LEVELS` times, the new speeds of all steps solved
     in one batch a level.
 
     Returns
@@ -991,7 +992,7 @@ def _check_grids(stack, speeds, steps, more):
     grids = {int(k): np.array([index[int(k)], index[int(k) + 1]]) for k in steps}
     points = {int(k): [float(speeds[k]), float(speeds[k + 1])] for k in steps}
     for _ in range(_CHECK_LEVELS):
-        halves = {k: _unsure_parts(lam[grid], rows[grid]) for k, grid in grids.items()}
+        halves = {k: _unsure_parts(lam[grid], rows[grid], count) for k, grid in grids.items()}
         halves = {k: parts for k, parts in halves.items() if len(parts)}
         if not halves:
             break
@@ -1022,14 +1023,19 @@ def _check_roots(stack, speeds, more):
         return lam, WeightedRows(stack, phi[None], one_thread=True)[0]
 
 
-def _unsure_parts(lam, rows) -> list:
+def _unsure_parts(lam, rows, count) -> list:
     """The parts p (from the check's speed p to p + 1) of a step where the check's tracking of its
-    roots ``lam`` (P, m), weighted shapes ``rows`` (P, m, n), is unsure: some root's weighted shape
-    has a MAC below the tracking's ``_CONFIDENT_MAC`` with that of the root it is paired with, and
-    the root moved at least half the way to the nearest other root (its pairing told by neither
-    its shape nor its value). A repeated root's copies (a rotor's forward and backward modes at
-    rest), whose shapes are any basis of their eigenspace, are one root (:func:`_step_link`): the
-    nearest other root is one of another value."""
+    roots ``lam`` (P, m), weighted shapes ``rows`` (P, m, n), is unsure for a root among the
+    ``count`` lowest (by frequency: the sweep's roots) at either end: its weighted shapes at the
+    two ends have a MAC below the tracking's ``_CONFIDENT_MAC``, and it moved at least half the way
+    to the nearest other root at one of the ends (its pairing told by neither its shape nor its
+    value).
+
+    A repeated root's copies (a rotor's forward and backward modes at rest), whose shapes are any
+    basis of their eigenspace, are one root (:func:`_step_link`): neither they nor the roots they
+    become are each other's nearest other root. The top root at either end is not checked: where
+    a root enters the check's roots (one becoming a mode) the top one leaves them, and tracking
+    pairs the two, on every part however short."""
     from ._vectors import mac_matrix
     from .tracking import _CONFIDENT_MAC
 
@@ -1038,10 +1044,13 @@ def _unsure_parts(lam, rows) -> list:
     for p in range(len(lam) - 1):
         a, b = lam[p, order[p]], lam[p + 1, order[p + 1]]
         mac = np.diagonal(mac_matrix(rows[p, order[p]], rows[p + 1, order[p + 1]]))
-        gap = np.abs(a[:, None] - a[None, :])
-        gap[gap <= _SAME_VALUE * np.abs(a)[:, None]] = np.inf       # itself, and a repeated root's copies
-        moved = np.abs(b - a) >= 0.5 * gap.min(axis=1)
-        if np.any((mac < _CONFIDENT_MAC) & moved):
+        other = np.abs(a[:, None] - a[None, :]) > _SAME_VALUE * np.abs(a)[:, None]   # not itself, nor its copies
+        gap = np.minimum(np.where(other, np.abs(a[:, None] - a[None, :]), np.inf),
+                         np.where(other, np.abs(b[:, None] - b[None, :]), np.inf)).min(axis=1)
+        moved = np.abs(b - a) >= 0.5 * gap
+        rank_a, rank_b = (np.argsort(np.argsort(np.abs(x.imag), kind="stable"), kind="stable") for x in (a, b))
+        checked = ((rank_a < count) | (rank_b < count)) & (rank_a < len(a) - 1) & (rank_b < len(b) - 1)
+        if np.any((mac < _CONFIDENT_MAC) & moved & checked):
             unsure.append(p)
     return unsure
 

@@ -174,3 +174,24 @@ def test_the_round_trip_to_modes_holds(path, capsys):
         modes = _csv(["modes", path, "--speed", f"{speed:.10g}", "--out", "-"], capsys).set_index("mode")
         np.testing.assert_allclose(modes.loc[rows.mode_at_speed.astype(int), "frequency_hz"].to_numpy(),
                                    rows.frequency_hz.to_numpy(), rtol=1e-9)
+
+
+def test_an_overhung_wheels_columns_do_not_depend_on_the_step():
+    """tests/test_lowest_columns27q.py's overhung wheel (52 coordinates, Newton's route; two roots
+    near 391 Hz exchange the 4th and 5th places): on 7 and 11 speeds over 0..60,000 rpm each column
+    of the lowest 4 holds one root of the full route's sweep at 61 speeds (every root, tracked on
+    steps of 1,000 rpm), told by value at the common speeds. Main: columns 2 and 3 each held two."""
+    from test_lowest_columns27q import _overhung
+
+    model = _overhung()
+    fine_speeds = rdm.rpm(np.linspace(0.0, 60000.0, 61))
+    full = rdm.campbell(model, fine_speeds, critical=False).eigenvalues
+    for count in (7, 11):
+        speeds = rdm.rpm(np.linspace(0.0, 60000.0, count))
+        values = rdm.campbell(model, speeds, modes=4, critical=False).eigenvalues
+        at = full[np.searchsorted(fine_speeds, speeds - 1e-9 * speeds[-1])]
+        for j in range(values.shape[1]):
+            found = np.flatnonzero(np.isfinite(values[:, j]))
+            held = [set(np.flatnonzero(np.abs(at[k] - values[k, j]) <= SAME * abs(values[k, j])).tolist())
+                    for k in found]
+            assert held and set.intersection(*held), f"{count} speeds: column {j + 1} holds {held}"

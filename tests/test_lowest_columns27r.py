@@ -58,7 +58,8 @@ def _tilt(omega, ip, id_, tilt, sign):
 
 def _branches(omega):
     """Every root's frequency [rad/s] at speed ``omega``, by name (closed form)."""
-    return {"C": 100.0 + 0 * omega, "Ba": _tilt(omega, IP_A, ID_A, TILT_A, -1), "Fa": _tilt(omega, IP_A, ID_A, TILT_A, 1),
+    return {"C": 100.0 + 0 * omega,
+            "Ba": _tilt(omega, IP_A, ID_A, TILT_A, -1), "Fa": _tilt(omega, IP_A, ID_A, TILT_A, 1),
             "Bb": _tilt(omega, IP_B, ID_B, TILT_B, -1), "Fb": _tilt(omega, IP_B, ID_B, TILT_B, 1),
             "cyl_a": np.sqrt(2 * K_A / M) + 0 * omega, "cyl_b": np.sqrt(2 * K_B / M) + 0 * omega}
 

@@ -818,7 +818,9 @@ def _root_columns(stack, speeds, values, weighted, count):
     for ``count +`` :data:`_EXTRA_ROOTS` roots, which are tracked over the step: a root of the
     sweep whose partner there is none of the sweep's roots enters (or leaves) the lowest
     ``count``. Such a root starts a column of its own; the sweep's own tracking is kept at every
-    other step.
+    other step. The check halves a step where its own pairing is unsure (:func:`_check_grids`),
+    and a root that left and comes back gets its former column when it is plainly the same mode
+    (:func:`_returning`).
 
     Parameters
     ----------
@@ -869,8 +871,8 @@ def _returning(columns, total, entering, k, speeds, values, weighted) -> dict:
     lowest modes: ``{j: its former result column}``.
 
     A result column whose root left the lowest modes before speed ``k`` (none of the tracked
-    roots at speed ``k - 1`` is in it) is given back to an entering root as tracking would continue a mode over an unsure step
-    (:mod:`.tracking`): the entering root's weighted shape has a MAC of at least
+    roots at speed ``k - 1`` is in it) is given back to an entering root as tracking would continue
+    a mode over an unsure step (:mod:`.tracking`): the entering root's weighted shape has a MAC of at least
     ``_CONFIDENT_MAC`` with the column's last shape, and it lies within ``_KEPT_DISTANCE`` of
     |lambda| of the column's last root or of that root extrapolated (linearly in speed, from its
     last two) to the speed; one column to one root by the optimal assignment of (1 - MAC) plus
@@ -974,8 +976,8 @@ def _check_grids(stack, speeds, steps, count, more):
     """The check's speeds over each doubtful step and its ``more`` lowest roots there.
 
     Each step is halved where the check's tracking over a part of it is unsure for one of the
-    ``count`` lowest roots (:func:`_unsure_parts`), up to :data:`_CHECK_LEVELS` times, the new speeds of all steps solved
-    in one batch a level.
+    ``count`` lowest roots (:func:`_unsure_parts`), up to :data:`_CHECK_LEVELS` times, the new
+    speeds of all steps solved in one batch a level.
 
     Returns
     -------

@@ -818,7 +818,9 @@ def _root_columns(stack, speeds, values, weighted, count):
     for ``count +`` :data:`_EXTRA_ROOTS` roots, which are tracked over the step: a root of the
     sweep whose partner there is none of the sweep's roots enters (or leaves) the lowest
     ``count``. Such a root starts a column of its own; the sweep's own tracking is kept at every
-    other step.
+    other step. The check halves a step where its own pairing is unsure (:func:`_check_grids`),
+    and a root that left and comes back gets its former column when it is plainly the same mode
+    (:func:`_returning`).
 
     Parameters
     ----------
@@ -849,12 +851,80 @@ def _root_columns(stack, speeds, values, weighted, count):
     label = count
     for k in range(len(speeds) - 1):
         columns[k + 1] = columns[k]
-        for j, i in links.get(k, {}).items():      # a step where roots enter: their new columns
+        entering = []
+        for j, i in links.get(k, {}).items():      # a step where roots enter: their columns
             if i is None:
-                columns[k + 1, j], label = label, label + 1
+                entering.append(j)
             else:
                 columns[k + 1, j] = columns[k, i]
+        back = _returning(columns[:k + 1], label, entering, k + 1, speeds, values, weighted) if entering else {}
+        for j in entering:
+            if j in back:
+                columns[k + 1, j] = back[j]
+            else:
+                columns[k + 1, j], label = label, label + 1
     return _numbered(columns, values, speeds, label)
+
+
+def _returning(columns, total, entering, k, speeds, values, weighted) -> dict:
+    """The roots of ``entering`` (tracked columns at speed ``k``) that are a root come back to the
+    lowest modes: ``{j: its former result column}``.
+
+    A result column whose root left the lowest modes before speed ``k`` (none of the tracked
+    roots at speed ``k - 1`` is in it) is given back to an entering root as tracking would continue
+    a mode over an unsure step (:mod:`.tracking`): the entering root's weighted shape has a MAC of at least
+    ``_CONFIDENT_MAC`` with the column's last shape, and it lies within ``_KEPT_DISTANCE`` of
+    |lambda| of the column's last root or of that root extrapolated (linearly in speed, from its
+    last two) to the speed; one column to one root by the optimal assignment of (1 - MAC) plus
+    that relative distance. The step's check told the entering roots from those that leave at
+    it: a column that leaves there is never given back there.
+
+    Parameters
+    ----------
+    columns : ndarray of int, shape (k, c)
+        Result columns of the tracked roots at speeds 0 .. k - 1.
+    total : int
+        Result columns so far.
+    entering : list of int
+        Tracked columns whose root enters at speed ``k``.
+    speeds : ndarray, shape (N,) [rad/s]
+    values : ndarray, shape (N, c), complex [1/s]
+    weighted : WeightedRows, shape (1, N, c, n)
+
+    Returns
+    -------
+    dict
+    """
+    from scipy.optimize import linear_sum_assignment
+
+    from .tracking import _CONFIDENT_MAC, _KEPT_DISTANCE
+
+    gone = np.setdiff1d(np.arange(total), columns[-1])
+    candidates = []
+    for label in gone:                                 # each one's last two speeds where it is found
+        rows, slots = np.nonzero((columns == label) & np.isfinite(values[:len(columns)]))
+        if len(rows):
+            candidates.append((int(label), rows[-2:], slots[-2:]))
+    if not candidates:
+        return {}
+    now = values[k, entering]
+    shapes = weighted[0, k, np.asarray(entering)]                                      # (e, n)
+    cost = np.full((len(candidates), len(entering)), np.inf)
+    for r, (label, rows, slots) in enumerate(candidates):
+        last = values[rows[-1], slots[-1]]
+        near = np.abs(now - last)
+        if len(rows) == 2:
+            slope = (last - values[rows[0], slots[0]]) / (speeds[rows[-1]] - speeds[rows[0]])
+            near = np.minimum(near, np.abs(now - last - slope * (speeds[k] - speeds[rows[-1]])))
+        near = near / abs(last)
+        before = weighted[0, int(rows[-1]), int(slots[-1])]
+        mac = np.abs(shapes.conj() @ before) ** 2
+        cost[r] = np.where((mac >= _CONFIDENT_MAC) & (near <= _KEPT_DISTANCE), 1.0 - mac + near, np.inf)
+    finite = np.isfinite(cost)
+    if not finite.any():
+        return {}
+    rows, picked = linear_sum_assignment(np.where(finite, cost, 1e6))
+    return {entering[c]: candidates[r][0] for r, c in zip(rows, picked) if finite[r, c]}
 
 
 def _doubtful_steps(values, weighted) -> np.ndarray:
@@ -874,43 +944,129 @@ def _doubtful_steps(values, weighted) -> np.ndarray:
 
 def _links_of_steps(stack, speeds, values, steps, count) -> dict:
     """Which tracked root of ``values`` (N, c) continues which over each doubtful step, where some
-    root enters or leaves the lowest ``count`` there: ``{k: {j: i or None}}``, root ``j`` at speed
-    ``k + 1`` continuing root ``i`` at ``k`` (None: it enters). A step whose roots are the same
-    on both sides, or that the check cannot tell, is not in it (the sweep's tracking stands)."""
-    from . import _lowest, _lowest_branches
-    from ._weighted_rows import WeightedRows
+    root enters or leaves the lowest ``count`` there, or where the sweep's tracking paired its roots
+    otherwise: ``{k: {j: i or None}}``, root ``j`` at speed ``k + 1`` continuing root ``i`` at ``k``
+    (None: it enters). A step whose roots continue as the sweep tracked them, or that the check
+    cannot tell, is not in it (the sweep's tracking stands).
 
-    at = np.unique(np.concatenate([steps, steps + 1]))
-    more = min(count + _EXTRA_ROOTS, stack_root_count(stack))     # no more than the model's roots
+    The check tracks ``count +`` :data:`_EXTRA_ROOTS` roots over the step, on speeds between its two
+    ends where a step of them is unsure (:func:`_check_grids`): the pairing does not depend on the
+    sweep's step."""
     try:
-        with warnings.catch_warnings():              # a check: its fallback is no news of the sweep's
-            warnings.simplefilter("ignore")
-            if stack.branch_times.shape[1]:
-                lam, phi, _ = _lowest_branches.lowest_roots(stack, speeds[at], more)
-            else:
-                lam, phi, _ = _lowest.lowest_roots(stack, speeds[at], more)
+        grids, lam, rows = _check_grids(stack, speeds, steps, count,
+                                        min(count + _EXTRA_ROOTS, stack_root_count(stack)))
     except InputError:                               # too long to solve again: the tracking stands
         return {}
-    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
-        rows = WeightedRows(stack, phi[None], one_thread=True)[0]
     links = {}
     for k in steps:
-        p, q = np.searchsorted(at, [k, k + 1])
-        link = _step_link(lam[[p, q]], rows[[p, q]], values[k], values[k + 1])
+        at = grids[int(k)]
+        order = track_modes_many(lam[at][None], rows[at][None])[0, -1]     # root e at k -> order[e] at k + 1
+        link = _step_link(lam[at[[0, -1]]], order, values[k], values[k + 1])
         if link is not None:
             links[int(k)] = link
     return links
 
 
-def _step_link(lam, rows, before, after):
+#: the most halvings of a doubtful step the check makes (:func:`_check_grids`): a step of 2**-6 of
+#: the sweep's at the finest, where a pair of its roots is still unsure
+_CHECK_LEVELS = 6
+
+
+def _check_grids(stack, speeds, steps, count, more):
+    """The check's speeds over each doubtful step and its ``more`` lowest roots there.
+
+    Each step is halved where the check's tracking over a part of it is unsure for one of the
+    ``count`` lowest roots (:func:`_unsure_parts`), up to :data:`_CHECK_LEVELS` times, the new
+    speeds of all steps solved in one batch a level.
+
+    Returns
+    -------
+    grids : dict
+        ``{k: ndarray of int}``, the check's speeds of step ``k``, increasing, as indices into
+        ``lam`` (the first and last: speeds ``k`` and ``k + 1``).
+    lam : ndarray, shape (P, more), complex [1/s]
+    rows : ndarray, shape (P, more, n), complex
+        Their weighted shapes.
+    """
+    at = np.unique(np.concatenate([steps, steps + 1]))
+    lam, rows = _check_roots(stack, speeds[at], more)
+    index = {int(k): i for i, k in enumerate(at)}
+    grids = {int(k): np.array([index[int(k)], index[int(k) + 1]]) for k in steps}
+    points = {int(k): [float(speeds[k]), float(speeds[k + 1])] for k in steps}
+    for _ in range(_CHECK_LEVELS):
+        halves = {k: _unsure_parts(lam[grid], rows[grid], count) for k, grid in grids.items()}
+        halves = {k: parts for k, parts in halves.items() if len(parts)}
+        if not halves:
+            break
+        middle = [(k, p, 0.5 * (points[k][p] + points[k][p + 1])) for k, parts in halves.items() for p in parts]
+        more_lam, more_rows = _check_roots(stack, np.array([m for _, _, m in middle]), more)
+        start = len(lam)
+        lam, rows = np.concatenate([lam, more_lam]), np.concatenate([rows, more_rows])
+        for k in halves:
+            mine = [(p, start + i, m) for i, (kk, p, m) in enumerate(middle) if kk == k]
+            for p, i, m in reversed(mine):               # from the last part: earlier places stay
+                grids[k] = np.insert(grids[k], p + 1, i)
+                points[k].insert(p + 1, m)
+    return grids, lam, rows
+
+
+def _check_roots(stack, speeds, more):
+    """The ``more`` lowest roots (P, more) at ``speeds`` (P,) [rad/s] and their weighted shapes
+    (P, more, n), the route's own fallback warnings muted (a check: no news of the sweep's)."""
+    from . import _lowest, _lowest_branches
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if stack.branch_times.shape[1]:
+            lam, phi, _ = _lowest_branches.lowest_roots(stack, speeds, more)
+        else:
+            lam, phi, _ = _lowest.lowest_roots(stack, speeds, more)
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+        return lam, WeightedRows(stack, phi[None], one_thread=True)[0]
+
+
+def _unsure_parts(lam, rows, count) -> list:
+    """The parts p (from the check's speed p to p + 1) of a step where the check's tracking of its
+    roots ``lam`` (P, m), weighted shapes ``rows`` (P, m, n), is unsure for a root among the
+    ``count`` lowest (by frequency: the sweep's roots) at either end: its weighted shapes at the
+    two ends have a MAC below the tracking's ``_CONFIDENT_MAC``, and it moved at least half the way
+    to the nearest other root at one of the ends (its pairing told by neither its shape nor its
+    value).
+
+    A repeated root's copies (a rotor's forward and backward modes at rest), whose shapes are any
+    basis of their eigenspace, are one root (:func:`_step_link`): neither they nor the roots they
+    become are each other's nearest other root. The top root at either end is not checked: where
+    a root enters the check's roots (one becoming a mode) the top one leaves them, and tracking
+    pairs the two, on every part however short."""
+    from ._vectors import mac_matrix
+    from .tracking import _CONFIDENT_MAC
+
+    order = track_modes_many(lam[None], rows[None])[0]
+    unsure = []
+    for p in range(len(lam) - 1):
+        a, b = lam[p, order[p]], lam[p + 1, order[p + 1]]
+        mac = np.diagonal(mac_matrix(rows[p, order[p]], rows[p + 1, order[p + 1]]))
+        other = np.abs(a[:, None] - a[None, :]) > _SAME_VALUE * np.abs(a)[:, None]   # not itself, nor its copies
+        gap = np.minimum(np.where(other, np.abs(a[:, None] - a[None, :]), np.inf),
+                         np.where(other, np.abs(b[:, None] - b[None, :]), np.inf)).min(axis=1)
+        moved = np.abs(b - a) >= 0.5 * gap
+        rank_a, rank_b = (np.argsort(np.argsort(np.abs(x.imag), kind="stable"), kind="stable") for x in (a, b))
+        checked = ((rank_a < count) | (rank_b < count)) & (rank_a < len(a) - 1) & (rank_b < len(b) - 1)
+        if np.any((mac < _CONFIDENT_MAC) & moved & checked):
+            unsure.append(p)
+    return unsure
+
+
+def _step_link(lam, order, before, after):
     """:func:`_links_of_steps` of one step: ``lam`` (2, m) the check's roots at its two speeds,
-    ``rows`` (2, m, n) their weighted shapes; ``before``, ``after`` (c,) the sweep's tracked roots
-    there. ``{j: i or None}``, or None where the sweep's roots are the same on both sides (or a
-    root of the sweep is not among the check's).
+    ``order`` (m,) the check's tracking over the step (its root e at the first speed continues as
+    root ``order[e]`` at the second); ``before``, ``after`` (c,) the sweep's tracked roots there.
+    ``{j: i or None}``, or None where each of the sweep's roots continues the one the sweep tracked
+    (or a root of the sweep is not among the check's).
 
     The roots are told by value (within :data:`_SAME_VALUE`): a repeated root's copies (a rotor's
-    forward and backward modes at rest) are one root whichever copy the check's shapes follow."""
-    order = track_modes_many(lam[None], rows[None])[0, 1]            # root e at k -> order[e] at k + 1
+    forward and backward modes at rest) are one root whichever copy the check's shapes follow (of
+    equal copies, the sweep's own pairing is kept)."""
     second = _same_roots(lam[1], after)
     if second is None or _same_roots(lam[0], before) is None:
         return None
@@ -921,10 +1077,10 @@ def _step_link(lam, rows, before, after):
     with np.errstate(invalid="ignore", divide="ignore"):
         gap = np.abs(before[:, None] - partners[None, :]) / np.abs(before)[:, None]
     gap = np.where(np.isfinite(gap), gap, 1.0)
-    for i, j in zip(*_assigned(gap)):
+    for i, j in zip(*_assigned(gap + _SAME_VALUE * 1e-3 * (1 - np.eye(len(before), len(after))))):
         if gap[i, j] <= _SAME_VALUE:
             link[int(j)] = int(i)
-    if all(i is not None for i in link.values()):
+    if all(i == j for j, i in link.items()):
         return None
     return link
 

@@ -332,8 +332,9 @@ def _campbell(data, units) -> str:
              _figure(result.plot(title=data.model_info["name"], freq_range=None if top is None else (None, top),
                                  operating=(low, high)),
                      f"Figure: Campbell diagram, natural frequencies against the reference rotor's speed "
-                     f"with the 1X lines; critical speeds marked. Operating range {low:.6g} to {high:.6g} rpm "
-                     f"({'shaded' if high > low else 'dashed'})."
+                     f"with the 1X lines; critical speeds marked. "
+                     + (f"Operating range {low:.6g} to {high:.6g} rpm (shaded)." if high > low
+                        else f"Operating speed {low:.6g} rpm (dashed).")
                      + (f" Frequencies up to {top:.4g} Hz: the {above} modes above are crossed by no 1X line in "
                         f"the sweep (the highest reaches {_order_reach(result):.4g} Hz)." if above else ""),
                      "Campbell diagram"),

@@ -101,3 +101,29 @@ def test_a_report_without_an_operating_range_captions_its_campbell_diagram_with_
     assert "Operating speed 3000 rpm (dashed)." in captions[True], captions[True]
     assert "Operating range" not in captions[True]
     assert "Operating range 2400 to 3000 rpm (shaded)." in captions[False], captions[False]
+
+
+def test_the_clearance_scale_factor_reads_the_operating_range_s_ends_the_sweep_lacks():
+    """``unbalance --checks`` and the report disagreed on compressor_rotor's clearance check:
+    Scc 4.86 against 4.48 (api-static), the eye seals failing at ratio 1.29 against 1.19. Amax of
+    Scc = Avl / Amax is the probes' largest amplitude over the operating range (API 617); the
+    command's sweep (41 speeds, 180 to 13,500 rpm) holds neither 7,000 nor 9,000 rpm, where the
+    probes read their largest, the report's sweep holds both. Truth: Avl / Amax with Amax the
+    largest probe amplitude of a dense sweep over 7,000 to 9,000 rpm (both ends swept)."""
+    from rotordyn_modal.analysis.unbalance import api_unbalance_response
+    from rotordyn_modal.analysis.unbalance_checks import unbalance_checks
+    from rotordyn_modal.unbalance_standards import api_probe_limit
+
+    model = load_model(EXAMPLES / "compressor_rotor.toml")
+    mcs, low = 9000 * RPM, 7000 * RPM
+    coarse = api_unbalance_response(model, np.linspace(180, 13500, 41) * RPM, mcs)
+    assert not np.any(np.isclose(np.abs(coarse.speeds), low)) and not np.any(np.isclose(np.abs(coarse.speeds), mcs))
+    check = coarse.clearance_check(model, mcs=mcs, min_operating=low)
+    dense = api_unbalance_response(model, np.linspace(7000, 9000, 201) * RPM, mcs)
+    probes = unbalance_checks(dense, model, mcs=mcs, refine=False)
+    amax = probes.probe_pkpk.max(axis=(0, 2))                              # (n_cases,) [m]
+    avl = float(api_probe_limit(9000.0))
+    assert avl == pytest.approx(25.4e-6, rel=1e-12)
+    for c, case in enumerate(coarse.sources):
+        expected = min(6.0, avl / amax[list(dense.sources).index(case)])
+        assert check.scale[:, c] == pytest.approx(expected, rel=1e-9), (case, check.scale[:, c], expected)

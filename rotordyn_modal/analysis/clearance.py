@@ -266,8 +266,9 @@ def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):
             continue
         largest = np.where(window, probes.probe_pkpk[rows], -np.inf).max(axis=(0, 2))   # (n_cases,)
         largest = np.maximum(largest, _probe_peaks(result, [probes.probes[p] for p in rows], n_cases, min_speed, mcs))
-        largest = np.maximum(largest, _probe_ends(result, model, [probes.probes[p] for p in rows], n_cases,
-                                                  min_speed, mcs))
+        if window.any():                    # else the sweep's speed nearest them stands for them, said
+            largest = np.maximum(largest, _probe_ends(result, model, [probes.probes[p] for p in rows], n_cases,
+                                                      min_speed, mcs))
         limit = probes.probe_limits[rows[0]]
         for c in range(n_cases):
             if not (np.isfinite(largest[c]) and largest[c] > 0):

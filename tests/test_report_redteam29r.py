@@ -27,6 +27,16 @@ EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 RPM = np.pi / 30
 
 
+@pytest.fixture
+def no_png(monkeypatch):
+    """The report's figures built but not drawn to PNG (their captions are what is read here)."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.report import render
+
+    monkeypatch.setattr(render, "figure_png", lambda fig, dpi=110: plt.close(fig) or "data:image/png;base64,")
+
+
 def _cells(html: str):
     headers = [re.sub(r"<[^>]+>", "", h) for h in re.findall(r"<th[^>]*>(.*?)</th>", html)]
     rows = [[re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<td[^>]*>(.*?)</td>", row)]
@@ -40,7 +50,7 @@ def journals():
     (MCS 6600 rpm, operating range 6000 to 6600 rpm as its file documents; 25 speeds)."""
     model = load_model(EXAMPLES / "compressor_on_journals.toml")
     inputs = ReportInputs("api684", 6600 * RPM, operating=(6000 * RPM, 6600 * RPM), points=25)
-    data = report_collect.ReportData(inputs, model, {}, ("campbell", "modes"))
+    data = report_collect.ReportData(inputs, model, report_collect.model_summary(model), ("campbell", "modes"))
     report_collect._campbell(data)
     report_collect._modes(data)
     return data
@@ -85,7 +95,7 @@ def test_the_shown_modes_and_the_critical_speed_table_disagree_on_numbers_here(j
     assert ratios[2] < 0 < ratios[3]
 
 
-def test_a_report_without_an_operating_range_captions_its_campbell_diagram_with_one_speed():
+def test_a_report_without_an_operating_range_captions_its_campbell_diagram_with_one_speed(no_png):
     """No ``--operating-range``: the caption names the operating speed once (dashed), as the
     model table's "3000 (one speed)" does; with a range, the range (shaded)."""
     from rotordyn_modal.report import render
@@ -127,3 +137,46 @@ def test_the_clearance_scale_factor_reads_the_operating_range_s_ends_the_sweep_l
     for c, case in enumerate(coarse.sources):
         expected = min(6.0, avl / amax[list(dense.sources).index(case)])
         assert check.scale[:, c] == pytest.approx(expected, rel=1e-9), (case, check.scale[:, c], expected)
+
+
+def _campbell_caption(name, mcs_rpm, operating_rpm, points):
+    from rotordyn_modal.report import render
+
+    model = load_model(EXAMPLES / f"{name}.toml")
+    inputs = ReportInputs("api684", mcs_rpm * RPM, operating=tuple(x * RPM for x in operating_rpm), points=points)
+    data = report_collect.ReportData(inputs, model, report_collect.model_summary(model), ("campbell",))
+    report_collect._campbell(data)
+    html = render._campbell(data, "si")
+    return model, data, re.search(r"Figure: Campbell diagram[^<]*", html).group(0)
+
+
+def test_a_report_says_where_its_machine_turns_unstable_inside_the_operating_range(no_png):
+    """journal_rotor at an MCS of 12,500 rpm (range 10,000 to 12,500 rpm) is unstable from
+    11,628 rpm (oil whirl): its API 684 report read "pass" on every line and nowhere said
+    "unstable" (the Campbell figure's red band alone showed it). The caption now names the mode
+    and the speed, inside the operating range, within one swept step of the threshold that
+    ``stability`` root-finds on the real part (an independent route: Brent's method)."""
+    from rotordyn_modal.analysis.stability import stability
+
+    model, data, caption = _campbell_caption("journal_rotor", 12500, (10000, 12500), 21)
+    found = re.search(r"Mode (\d+) becomes unstable at about ([\d,]+) rpm \(([\d.]+) Hz, inside the operating "
+                      r"range;", caption)
+    assert found, caption
+    speeds = np.abs(data.results["campbell"].speeds)
+    threshold = stability(model, np.linspace(10000, 12500, 6) * RPM).thresholds[0] / RPM
+    assert 10000 < threshold < 12500                                   # 11,627.6 rpm
+    step = np.max(np.diff(np.sort(speeds))) / RPM
+    assert abs(float(found.group(2).replace(",", "")) - threshold) < step, (found.group(0), threshold)
+
+
+def test_a_stable_sweep_says_nothing_and_an_onset_above_the_range_is_placed_there(journals, no_png):
+    """compressor_on_journals is unstable from 7,256 rpm, 10 % above its MCS of 6,600 rpm (its
+    file's comment): 'above the operating range'; the compressor on linear bearings stays stable
+    over its sweep: no sentence."""
+    from rotordyn_modal.report import render
+
+    caption = re.search(r"Figure: Campbell diagram[^<]*", render._campbell(journals, "si")).group(0)
+    found = re.search(r"becomes unstable at about ([\d,]+) rpm \([\d.]+ Hz, above the operating range;", caption)
+    assert found and 7000 < float(found.group(1).replace(",", "")) < 7600, caption
+    _, _, caption = _campbell_caption("compressor_rotor", 9000, (7000, 9000), 9)
+    assert "unstable" not in caption, caption

@@ -180,3 +180,52 @@ def test_a_stable_sweep_says_nothing_and_an_onset_above_the_range_is_placed_ther
     assert found and 7000 < float(found.group(1).replace(",", "")) < 7600, caption
     _, _, caption = _campbell_caption("compressor_rotor", 9000, (7000, 9000), 9)
     assert "unstable" not in caption, caption
+
+
+#: two cheap examples run by the command line in each unit system, every number the user types
+#: typed in that system (issue 29: the every-example comparison ran outside the suite, note16):
+#: the journal rotor judged to API 617 with Level I at a station offset and Qa typed in lbf/in and
+#: in, a casing on mounts judged in ISO 20816-3 zones
+_LBF_IN = 4.4482216152605 / 0.0254                         # N/m in 1 lbf/in (NIST SP 811, exact)
+US_SI_CASES = {
+    "journal_rotor": (["--standard", "api617", "--mcs", "6000", "--operating-range", "4000:6000"],
+                      {"si": ["--station", "rotor@0.0254", "--qa", "2e5", "--stiffness", "1e5:1e10:5"],
+                       "us": ["--station", "rotor@1", "--qa", repr(2e5 / _LBF_IN),
+                              "--stiffness", f"{1e5 / _LBF_IN!r}:{1e10 / _LBF_IN!r}:5"]}),
+    "motor_fan_minimal": (["--standard", "iso", "--mcs", "3000", "--iso-group", "2", "--iso-support", "flexible"],
+                          {"si": [], "us": []}),
+}
+
+
+@pytest.mark.parametrize("name", sorted(US_SI_CASES))
+def test_the_command_line_s_us_report_says_what_its_si_report_says(name, tmp_path, no_png):
+    """The report run twice by the command line, ``--units si`` and ``--units us`` with the
+    options typed in each system's units: same words, each number the SI one times the exact
+    factor of its unit (NIST SP 811, written in tests/test_report_units.py) to the digits both
+    print; no SI unit left on the US page. The text of every section is compared, the figures'
+    PNG left out."""
+    import test_report_units as units
+
+    from rotordyn_modal.cli import main
+
+    common, typed = US_SI_CASES[name]
+    pages = {}
+    for system in ("si", "us"):
+        out = tmp_path / f"{system}.html"
+        assert main(["report", str(EXAMPLES / f"{name}.toml"), *common, "--points", "9", *typed[system],
+                     "--units", system, "--out", str(out), "--quiet"]) == 0
+        page = re.sub(r"\d{4}-\d\d-\d\d \d\d:\d\d UTC", "DATE", out.read_text(encoding="utf-8"))
+        pages[system] = units._visible(page)
+    si, us = pages["si"], pages["us"]
+    assert len(si) == len(us)
+    seen = set()
+    for (text_si, context_si), (text_us, context_us) in zip(si, us):
+        if text_si.startswith("rotordyn-modal "):                      # the command lines differ
+            continue
+        context = (context_si, context_us) if context_si and context_si not in units.NEUTRAL \
+            and context_si != context_us else None
+        units._compare(text_si, text_us, context, seen)
+    assert not [(unit, text) for text, _ in us for unit in units.SI_ONLY
+                if re.search(rf"(?:\d |\[){re.escape(unit)}(?![\w/²³])", text)]
+    kinds = {("µm", "mil"), ("N/m", "lbf/in")} if name == "journal_rotor" else {("mm/s", "in/s")}
+    assert kinds <= seen, seen                    # the page's judged quantities compared

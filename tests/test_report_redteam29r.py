@@ -229,3 +229,17 @@ def test_the_command_line_s_us_report_says_what_its_si_report_says(name, tmp_pat
                 if re.search(rf"(?:\d |\[){re.escape(unit)}(?![\w/²³])", text)]
     kinds = {("µm", "mil"), ("N/m", "lbf/in")} if name == "journal_rotor" else {("mm/s", "in/s")}
     assert kinds <= seen, seen                    # the page's judged quantities compared
+
+
+def test_an_undamped_forward_mode_has_q0_zero_not_round_off():
+    """spring_block_rotor has no damping: its forward mode at Q = 0 has a log decrement of 0 (the
+    solve's +3.9e-16), and any Q > 0 (a circulatory force on an undamped mode) makes it grow, so
+    Q0 = 0 and Q0/Qa = 0. The report printed Q0 = 3.294e-13 N/m and Q0/Qa = 1.65e-18, round-off
+    as a result. A damped rotor's Q0 (compressor_rotor: 1.22e6 N/m) is untouched (guard)."""
+    from rotordyn_modal.analysis.level1 import Station, level1
+
+    undamped = level1(load_model(EXAMPLES / "spring_block_rotor.toml"), 3000 * RPM, [Station("disk")], 2e5)
+    assert abs(undamped.log_decrements[0]) < 1e-12                    # undamped at Q = 0
+    assert undamped.q0 == 0.0 and undamped.ratio == 0.0
+    damped = level1(load_model(EXAMPLES / "compressor_rotor.toml"), 9000 * RPM, [Station("compressor")], 2e5)
+    assert 1.2e6 < damped.q0 < 1.25e6

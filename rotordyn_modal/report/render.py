@@ -357,8 +357,8 @@ def _campbell(data, units) -> str:
     parts = [_heading("campbell"),
              _figure(result.plot(title=data.model_info["name"], freq_range=None if top is None else (None, top),
                                  operating=(low, high)),
-                     f"Figure: Campbell diagram, natural frequencies against the reference rotor's speed "
-                     f"with the 1X lines; critical speeds marked. "
+                     "Figure: Campbell diagram, natural frequencies against the reference rotor's speed "
+                     "with the 1X lines; critical speeds marked. "
                      + (f"Operating range {low:.6g} to {high:.6g} rpm (shaded)." if high > low
                         else f"Operating speed {low:.6g} rpm (dashed).")
                      + instability_text(result, low, high)

@@ -86,7 +86,9 @@ def test_clearance_check_of_a_rigid_rotor_equals_the_hand_solve():
     assert check.cases == tuple(cases)
     checked = w <= mcs * (1 + 1e-12)
     for case, (z, psi) in ((name, q.T) for name, q in cases.items()):
-        scale = _scale(z, psi, checked, mcs_rpm)
+        # Amax over the operating speeds, 0 to the MCS: the swept ones and the MCS itself (redteam29r)
+        z_mcs, psi_mcs = solves[case](np.array([mcs])).T
+        scale = _scale(np.append(z[checked], z_mcs), np.append(psi[checked], psi_mcs), slice(None), mcs_rpm)
         for name, (s, radial) in STATIONS.items():
             pkpk = 2 * np.abs(z + s * psi)
             k = int(np.argmax(np.where(checked, pkpk, -1)))

@@ -704,8 +704,13 @@ def _sweep_grid(grid, small: float):
 
 def _zero_crossing(base, unit, n, grid, followed, log_dec) -> float:
     """The Q where the followed mode's real part reaches 0: Brent's method between the grid
-    points around the first sign change, on the root nearest the followed one (interpolated)."""
-    if not log_dec[0] > 0:
+    points around the first sign change, on the root nearest the followed one (interpolated).
+    0 where the mode is undamped at Q = 0 (its log decrement within the round-off of
+    :data:`.campbell.ROUND_OFF_RELATIVE`: any Q > 0 makes it grow; the spring-block rotor's
+    +3.9e-16 gave Q0 = 3.3e-13 N/m, Q0/Qa = 1.65e-18, round-off printed as a result)."""
+    from .campbell import ROUND_OFF_RELATIVE
+
+    if not log_dec[0] > 2 * np.pi * ROUND_OFF_RELATIVE:
         return 0.0
     below = np.nonzero(log_dec <= 0)[0]
     if not len(below):

@@ -861,9 +861,11 @@ def _modes(data):
     for number, w in enumerate(frequencies, start=1):
         if window[0] <= w <= window[1]:
             reasons.setdefault(number, f"frequency at the MCS {rpm_text(w * 30 / np.pi)} rpm (1X) in the window")
-    for number, speed in _critical_numbers(data, result):
+    for number, speed, tracked in _critical_numbers(data, result):
         if window[0] <= speed <= window[1]:
-            reasons[number] = f"1X critical speed {rpm_text(speed * 30 / np.pi)} rpm in the window"
+            # the critical-speed table numbers the Campbell sweep's tracked modes: say so where it differs
+            other = f" (the critical-speed table's mode {tracked})" if tracked != number else ""
+            reasons[number] = f"1X critical speed {rpm_text(speed * 30 / np.pi)} rpm{other} in the window"
     if not reasons:
         reasons = {n: "one of the lowest at the MCS (none in the window)" for n in range(1, min(count, LOWEST_MODES) + 1)}
     numbers = tuple(sorted(reasons)[:MOST_MODES])
@@ -929,9 +931,10 @@ def _nearest_lateral(model, result, window) -> dict:
 
 
 def _critical_numbers(data, result):
-    """(number at the MCS, critical speed [rad/s]) of each 1X critical speed of the Campbell
-    sweep: its tracked mode's root at the sweep speed nearest the MCS, numbered as ``modes``
-    numbers the nearest root at the MCS."""
+    """(number at the MCS, critical speed [rad/s], the Campbell sweep's mode number) of each 1X
+    critical speed of the Campbell sweep: its tracked mode's root at the sweep speed nearest the
+    MCS, numbered as ``modes`` numbers the nearest root at the MCS; the last is the number the
+    critical-speed table gives it (the sweep's tracked column, numbered at its first speed)."""
     from ..analysis.mode_numbers import number_of_root
 
     campbell = data.results.get("campbell")
@@ -944,7 +947,7 @@ def _critical_numbers(data, result):
     for row in table.itertuples():
         number = number_of_root(result.eigenvalues, campbell.eigenvalues[nearest, int(row.mode) - 1])
         if number:
-            out.append((number, row.speed_rpm * np.pi / 30))
+            out.append((number, row.speed_rpm * np.pi / 30, int(row.mode)))
     return out
 
 

@@ -314,6 +314,32 @@ def _order_reach(result) -> float:
                  * np.max(np.abs(result.speeds)) / (2 * np.pi))
 
 
+def instability_text(result, low: float, high: float) -> str:
+    """A sentence naming the lowest speed of the Campbell sweep ``result`` where a mode grows in
+    time (:meth:`CampbellResult.instability_onsets`, interpolated between swept speeds; or unstable
+    from the first), and where it lies against the operating range ``low`` to ``high`` [rpm]; ""
+    where every mode decays over the sweep. The figure's red band alone said it before: a report
+    whose machine turns unstable inside its operating range read "pass" everywhere."""
+    first = None                                              # (speed [rpm], frequency [Hz], mode)
+    unstable = result.unstable
+    for m, (speeds, frequencies) in enumerate(result.instability_onsets()):
+        for speed, frequency in zip(np.abs(speeds) * 30 / np.pi, frequencies):
+            if first is None or speed < first[0]:
+                first = (speed, frequency, result.modes[m], "at about")
+    for m in np.flatnonzero(unstable[0]):
+        speed = abs(result.speeds[0]) * 30 / np.pi
+        if first is None or speed <= first[0]:
+            first = (speed, result.frequencies_hz[0, m], result.modes[m], "from the sweep's first speed,")
+    if first is None:
+        return ""
+    speed, frequency, mode, how = first
+    where = ("inside the operating range" if low <= speed <= high else
+             "below the operating range" if speed < low else "above the operating range")
+    return (f" Mode {mode} becomes unstable {how} {speed:,.0f} rpm ({frequency:.4g} Hz, {where}; interpolated "
+            "between the swept speeds: 'rotordyn-modal stability' finds the threshold); where a mode grows, "
+            "the unbalance response is no steady state.")
+
+
 def _campbell(data, units) -> str:
     result = data.results["campbell"]
     from ..analysis._roots import at_round_off
@@ -331,9 +357,11 @@ def _campbell(data, units) -> str:
     parts = [_heading("campbell"),
              _figure(result.plot(title=data.model_info["name"], freq_range=None if top is None else (None, top),
                                  operating=(low, high)),
-                     f"Figure: Campbell diagram, natural frequencies against the reference rotor's speed "
-                     f"with the 1X lines; critical speeds marked. Operating range {low:.6g} to {high:.6g} rpm "
-                     f"({'shaded' if high > low else 'dashed'})."
+                     "Figure: Campbell diagram, natural frequencies against the reference rotor's speed "
+                     "with the 1X lines; critical speeds marked. "
+                     + (f"Operating range {low:.6g} to {high:.6g} rpm (shaded)." if high > low
+                        else f"Operating speed {low:.6g} rpm (dashed).")
+                     + instability_text(result, low, high)
                      + (f" Frequencies up to {top:.4g} Hz: the {above} modes above are crossed by no 1X line in "
                         f"the sweep (the highest reaches {_order_reach(result):.4g} Hz)." if above else ""),
                      "Campbell diagram"),

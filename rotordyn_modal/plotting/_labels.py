@@ -1098,7 +1098,7 @@ _ALONG_COST = 2.0
 _BELOW = 2.0
 
 
-def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False, split=1):
+def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False, split=1, straddle=()):
     """Boxes of size ``w x h`` on a grid around the point ``(x, y)``, nearest first.
 
     Rows are centred on the point's height and a little more than ``pad`` apart (so that
@@ -1109,7 +1109,9 @@ def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS,
     clear of the point's marker (half size ``clear``). Nearest is by the distance from the point to the box, those below the point
     counted :data:`_BELOW` times; ties: above before below, right before left. With ``split``,
     rows also at that many steps between (a gap between two curves a little more than a
-    label's height holds a box only where a row falls into it).
+    label's height holds a box only where a row falls into it). With ``straddle`` (fractions of
+    the width), only columns across the point: each box that far left of it (a short, steep
+    leader up or down, where every leader at a slant crosses a curve).
 
     Parameters
     ----------
@@ -1125,6 +1127,8 @@ def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS,
     lefts = np.column_stack([x + clear + pad + steps, x - clear - pad - w - steps]).ravel()
     if across:
         lefts = np.concatenate([[x - w / 2], lefts])
+    if len(straddle):
+        lefts = x - w * np.asarray(straddle, float)
     heights = np.array(sorted(range(-rows * split, rows * split + 1), key=lambda k: (abs(k), k < 0)), float) / split
     bottoms = np.repeat(y - h / 2 + heights * (h + pad), len(lefts))
     lefts = np.tile(lefts, len(heights))

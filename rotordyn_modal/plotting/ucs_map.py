@@ -136,7 +136,9 @@ def _touching(ax, crossings, first=0):
     if not crossings:
         return []
     centres = ax.transData.transform(np.array([c[:2] for c in crossings], float))
-    touch = np.hypot(*(centres[:, None] - centres[None]).transpose(2, 0, 1)) < _TOUCHING * ax.figure.dpi / 72.0
+    apart = centres[:, None] - centres[None]
+    points = ax.figure.dpi / 72.0
+    touch = np.hypot(*apart.transpose(2, 0, 1)) < np.where(np.abs(apart[..., 0]) > 0.5, 2 * _TOUCHING, _TOUCHING) * points
     group = list(range(len(crossings)))
     for i, j in zip(*np.nonzero(np.triu(touch, 1))):
         old, new = group[j], group[i]

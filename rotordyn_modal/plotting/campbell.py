@@ -972,8 +972,10 @@ class _CampbellLabels:
             above = [tuple(b) for b in (np.array(boxes_around(
                 u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v, _PAD_POINTS * self.points,
                 clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT, straddle=_STRADDLE)) / to_px).tolist()]
+            # (no curve through such a box but inside the circle: its own curves run on through it)
             box = first_free_box([b for b in above if distance(b) <= _MOST_COST * h / self.to_v], placed, gap,
-                                 frame, obstacles=markers, allowed=uncrossed, cost=distance, bound=distance)
+                                 frame, obstacles=markers, allowed=lambda b: uncrossed(b) and self.curves.free(b, circle),
+                                 cost=distance, bound=distance)
         if box is None:
             box = first_free_box(grid, placed, gap, frame, obstacles=markers, allowed=leader_clear, cost=cost,
                                  bound=distance)

@@ -135,3 +135,26 @@ def test_the_gear_machines_561_is_labelled_clear_of_every_curve():
         hits = crossings(glyph_box(text, renderer), segments, markers, 0.5 * 6 * fig.dpi / 72.0 + 1.0)
         assert not len(hits), (text.get_text(), hits)
     plt.close(fig)
+
+
+def test_a_flexible_rotors_mode_bars_draw_the_lowest_modes_on_a_readable_page():
+    """``rdm.modal(compressor_rotor, 3000 rpm).plot()`` drew a panel of 56 bars (node
+    coordinates) for each of its 53 modes, three panels a row: a figure of 59 x 47 inches. Now,
+    where a panel has more than 24 bars, the lowest six modes (the figure's title says which of
+    how many), as many panels a row as fit 24 inches; asked for, every mode is still drawn."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "compressor_rotor.toml")
+    result = rdm.modal(model, rdm.rpm(3000.0))
+    oscillatory = int(result.oscillatory.sum())
+    assert oscillatory > 6 and len(result.dof_names) > 24
+    fig = result.plot()
+    panels = [ax for ax in fig.axes if ax.get_visible() and ax.get_title().startswith("mode ")]
+    assert [ax.get_title().split(":")[0] for ax in panels] == [f"mode {n}" for n in range(1, 7)]
+    width, height = fig.get_size_inches()
+    assert width <= 24.0 and height <= 24.0, (width, height)
+    assert f"1\u20136 of {oscillatory}" in fig._suptitle.get_text()
+    plt.close(fig)
+    fig = result.plot(modes=range(1, oscillatory + 1))
+    assert len([ax for ax in fig.axes if ax.get_visible() and ax.get_title().startswith("mode ")]) == oscillatory
+    plt.close(fig)

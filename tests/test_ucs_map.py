@@ -226,8 +226,9 @@ def test_figure_writes_every_crossing_and_name_clear_of_curves_markers_and_each_
     markers = np.concatenate([ax.transData.transform(line.get_xydata()) for line in ax.get_lines()
                               if line.get_marker() == "o" and line.get_linestyle() == "None"])
     speeds = sorted({(round(c.stiffness, 6), round(c.speed * 30 / np.pi, 6)) for c in result.crossings})
-    written = sorted(t.get_text() for t in labels if len(t.get_text()) >= 3)
-    assert written == sorted(f"{rpm:.0f}" for _, rpm in speeds) and len(written) >= 12
+    # circles that lie on each other share a label ('3939/3959', figs27r), a speed written once
+    written = sorted(w for t in labels if len(t.get_text()) >= 3 for w in t.get_text().split("/"))
+    assert set(written) == {f"{rpm:.0f}" for _, rpm in speeds} and len(written) >= 12
     stopped = [j for j in range(result.mode_speeds.shape[1]) if not np.isfinite(result.mode_speeds[-1, j])
                and np.isfinite(result.mode_speeds[:, j]).any()]
     assert sorted(t.get_text() for t in labels if len(t.get_text()) < 3) == sorted(str(j + 1) for j in stopped)

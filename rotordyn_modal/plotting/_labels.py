@@ -1098,7 +1098,7 @@ _ALONG_COST = 2.0
 _BELOW = 2.0
 
 
-def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False, split=1):
+def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False, split=1, straddle=()):
     """Boxes of size ``w x h`` on a grid around the point ``(x, y)``, nearest first.
 
     Rows are centred on the point's height and a little more than ``pad`` apart (so that
@@ -1109,7 +1109,9 @@ def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS,
     clear of the point's marker (half size ``clear``). Nearest is by the distance from the point to the box, those below the point
     counted :data:`_BELOW` times; ties: above before below, right before left. With ``split``,
     rows also at that many steps between (a gap between two curves a little more than a
-    label's height holds a box only where a row falls into it).
+    label's height holds a box only where a row falls into it). With ``straddle`` (fractions of
+    the width), only columns across the point: each box that far left of it (a short, steep
+    leader up or down, where every leader at a slant crosses a curve).
 
     Parameters
     ----------
@@ -1125,6 +1127,8 @@ def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS,
     lefts = np.column_stack([x + clear + pad + steps, x - clear - pad - w - steps]).ravel()
     if across:
         lefts = np.concatenate([[x - w / 2], lefts])
+    if len(straddle):
+        lefts = x - w * np.asarray(straddle, float)
     heights = np.array(sorted(range(-rows * split, rows * split + 1), key=lambda k: (abs(k), k < 0)), float) / split
     bottoms = np.repeat(y - h / 2 + heights * (h + pad), len(lefts))
     lefts = np.tile(lefts, len(heights))
@@ -1141,7 +1145,8 @@ def box_distance(box, x, y) -> float:
     return float(np.hypot(du, dv))
 
 
-def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None, curves=None, crossing=True):
+def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None, curves=None, crossing=True,
+                       members=None):
     """Annotate points of ``ax`` in the order given, each label inside the axes and apart.
 
     Each label takes the free box (:func:`first_free_box`: inside the axes, clear of every
@@ -1170,7 +1175,13 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
         Whether a leader line may cross curves (at the cost above); False: only boxes whose
         leader crosses no curve (but within :data:`ANCHOR_POINTS` of its anchor) and is at
         most :data:`_LONGEST_LEADER` label heights long are taken, the nearest, boxes straight
-        above and below the anchor among them.
+        above and below the anchor among them. True: a leader passes through no other point's
+        circle (of :data:`_MARKER_POINTS`) where some box allows, and labels whose leaders cross
+        curves after the first pass get another chance (:func:`_second_pass`).
+    members : list of list of (x, y), optional
+        One per anchor: the other points (data coordinates) that its label names too (a group
+        of circles that touch, one label '3939/4184'): kept free of labels like the anchors, and
+        its leader may pass through their circles.
 
     Returns
     -------
@@ -1186,7 +1197,9 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     inner = (frame.x0 + margin, frame.y0 + margin, frame.x1 - margin, frame.y1 - margin)
     pixels = [ax.transData.transform((x, y)) for x, y in anchors]
     marker = _MARKER_POINTS * points
-    placed = [(px - marker, py - marker, px + marker, py + marker) for px, py in pixels]   # keep the points free
+    members = [[ax.transData.transform(p) for p in group] for group in members or [[] for _ in anchors]]
+    every = [(k, p) for k, group in enumerate(members) for p in group] + list(enumerate(pixels))
+    placed = [(px - marker, py - marker, px + marker, py + marker) for _, (px, py) in every]   # keep the points free
     labels, leaders = [], []        # the boxes and leader lines drawn
     jobs = {}
     for k, ((px, py), text) in enumerate(zip(pixels, texts)):
@@ -1199,22 +1212,31 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     # map gave '3394' the one such box of '3644', two circles 5 pixels apart, and '3644' a leader
     # across mode 8); else each label in the order given, the most important first
     stages = [("both", sorted(jobs))]
+    # with ``crossing``, a plain leader passes through no other point's circle either (the fan's
+    # '3959' ran through the circle of '4184', 7 pixels from its own, as if naming it)
+    centres, owners = np.array([p for _, p in every], float).reshape(-1, 2), np.array([k for k, _ in every])
+    circles = {k: (centres[owners != k], marker) for k in jobs} if crossing else dict.fromkeys(jobs)
     if crossing:
         freedom = {k: _leader_box(*job, placed, (pad, inner), ([], []), curves, ANCHOR_POINTS * points, crossing,
-                                  stage="count") for k, job in jobs.items()}
+                                  stage="count", circles=circles[k]) for k, job in jobs.items()}
         stages = [("plain", sorted(jobs, key=lambda k: (freedom[k], k))), ("fallback", sorted(jobs))]
-    boxes = {}
+    boxes, plain = {}, set()
     for stage, order in stages:
         for k in order:
             if k in boxes:
                 continue
             candidates, (px, py), h = jobs[k]
             box = _leader_box(candidates, (px, py), h, placed, (pad, inner), (labels, leaders), curves,
-                              ANCHOR_POINTS * points, crossing, stage=stage)
+                              ANCHOR_POINTS * points, crossing, stage=stage, circles=circles[k])
             if box is not None:
                 boxes[k] = box
                 labels.append(box)
                 leaders.append((nearest_in(box, (px, py)), (px, py)))
+                if stage == "plain":
+                    plain.add(k)
+    if crossing:
+        _second_pass(jobs, boxes, plain, placed, (labels, leaders), ((pad, inner), curves, ANCHOR_POINTS * points),
+                     circles)
     drawn = []
     for k in sorted(boxes):
         (x, y), (px, py), text, color, box = anchors[k], pixels[k], texts[k], colors[k], boxes[k]
@@ -1230,16 +1252,78 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     return drawn
 
 
-def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossing=True, stage="both"):
+def _second_pass(jobs, boxes, plain, placed, drawn, context, circles):
+    """Labels whose leaders cross curves (or left out) after the first pass take a plain box (one
+    whose leader crosses no curve, :func:`_leader_box`) where moving one label placed before to
+    another plain box makes room: the nearest such label first (compressor_on_journals' UCS map:
+    '31284', placed first for its fewer plain boxes, took the row that held the only plain box of
+    '31385' beside it, whose leader then crossed mode 3; '31284' had others). ``boxes`` (index ->
+    box), ``plain`` (the indices placed so), ``placed`` (boxes and markers) and ``drawn`` (label
+    boxes, leader lines) are updated in place; ``context`` is (room, curves, keep) and
+    ``circles`` maps each index to its :func:`_leader_box` ``circles``."""
+    labels, leaders = drawn
+    room, curves, keep = context
+
+    def remove(k):
+        box, (px, py) = boxes.pop(k), jobs[k][1]
+        placed.remove(box)
+        labels.remove(box)
+        leaders.remove((nearest_in(box, (px, py)), (px, py)))
+        plain.discard(k)
+        return box
+
+    def put(k, box, is_plain):
+        boxes[k] = box
+        labels.append(box)
+        leaders.append((nearest_in(box, jobs[k][1]), jobs[k][1]))
+        placed.append(box)
+        if is_plain:
+            plain.add(k)
+
+    def try_plain(k):
+        candidates, point, h = jobs[k]
+        return _leader_box(candidates, point, h, placed, room, drawn, curves, keep, True, stage="plain",
+                           circles=circles[k])
+
+    for k in [k for k in sorted(jobs) if k not in plain]:
+        point, h = jobs[k][1], jobs[k][2]
+        near = sorted((j for j in plain if box_distance(boxes[j], *point) <= _MOST_COST * h),
+                      key=lambda j: box_distance(boxes[j], *point))
+        for j in near:
+            old_k = remove(k) if k in boxes else None
+            old_j = remove(j)
+            new_k = try_plain(k)
+            if new_k is not None:
+                labels.append(new_k)            # the moved label keeps clear of it and of its leader
+                leaders.append((nearest_in(new_k, jobs[k][1]), jobs[k][1]))
+            new_j = try_plain(j) if new_k is not None else None
+            if new_k is not None:
+                labels.pop()
+                leaders.pop()
+            for box in (new_k, new_j):
+                if box is not None:
+                    placed.remove(box)
+            if new_k is not None and new_j is not None:
+                put(k, new_k, True)
+                put(j, new_j, True)
+                break
+            put(j, old_j, True)
+            if old_k is not None:
+                put(k, old_k, False)
+
+
+def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossing=True, stage="both", circles=None):
     """The box of ``candidates`` for a label of height ``h`` joined to ``point`` by a leader
     line, of least cost (:func:`place_point_labels`), or None.
 
     ``room`` is (gap, frame), ``drawn`` (label boxes, leader lines) drawn so far, ``keep``
     the half size of the square around ``point`` where curves may cross the label (and its
     leader), ``crossing`` whether the leader may cross curves beyond it. ``stage``: 'plain'
-    only a box whose leader neither crosses nor runs along a curve, 'fallback' only the
-    others, 'both' the first where it has one, else the second; 'count' returns how many
-    plain boxes there are (up to :data:`_FREEDOM`, nothing placed).
+    only a box whose leader neither crosses nor runs along a curve (nor, with ``circles``,
+    passes through another point's circle), 'fallback' only the others, 'both' the first where
+    it has one, else the second; 'count' returns how many plain boxes there are (up to
+    :data:`_FREEDOM`, nothing placed). ``circles``: (centres (n, 2), radius) of every point's
+    circle, or None.
     """
     labels, leaders = drawn
     square = anchor_box(*point, keep)
@@ -1252,7 +1336,9 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
                               and np.hypot(*np.subtract(nearest_in(box, point), point)) <= _LONGEST_LEADER * h))
 
     def crossing_cost(box):
-        return box_distance(box, *point) + _CROSSING_COST * h * curves.crossings(nearest_in(box, point), point, square)
+        start = nearest_in(box, point)
+        return box_distance(box, *point) + _CROSSING_COST * h * (curves.crossings(start, point, square)
+                                                                 + _through_circles(start, point, circles))
 
     def cost(box):
         # (defined before ``circle``, read when called) a leader's length along curves counts
@@ -1270,7 +1356,8 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
 
     def plain(box):
         start = nearest_in(box, point)
-        return clear(box) and not curves.cut(start, point, circle) and curves.along(start, point, circle) <= 0.5 * h
+        return clear(box) and not curves.cut(start, point, circle) and curves.along(start, point, circle) <= 0.5 * h \
+            and not _through_circles(start, point, circles)
 
     near = [b for b in candidates if box_distance(b, *point) <= _MOST_COST * h]
     if stage == "count":
@@ -1293,6 +1380,22 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
         if box is not None:
             return box
     return None
+
+
+def _through_circles(start, end, circles) -> bool:
+    """Whether the segment ``start -> end`` passes through a circle of ``circles`` ((centres (n, 2),
+    radius) or None: the other labels' points) whose centre lies outside the circle around ``end``
+    (those that overlap its own nearly whole cannot be missed)."""
+    if circles is None:
+        return False
+    centres, radius = circles
+    start, end = np.asarray(start, float), np.asarray(end, float)
+    others = centres[np.hypot(*(centres - end).T) > radius]
+    if not len(others):
+        return False
+    d = end - start
+    t = np.clip((others - start) @ d / max(float(d @ d), 1e-300), 0.0, 1.0)
+    return bool(np.any(np.hypot(*(start + t[:, None] * d - others).T) < radius))
 
 
 def nearest_in(box, point):

@@ -47,6 +47,9 @@ _SHARED_COLOUR = "0.15"
 #: size of a critical speed's circle [points]; circles whose centres lie within each other's
 #: circle (closer than half this) read as one double circle and share one label
 _MARKER_POINTS = 6
+#: where no box beside a critical speed's marker has a leader crossing no mode's curve, boxes
+#: across it, this much of their width left of it (:func:`._labels.boxes_around`)
+_STRADDLE = (0.1, 0.3, 0.5, 0.7, 0.9)
 
 
 #: the critical-speed note keeps at least this many points off the axes' spines
@@ -961,6 +964,18 @@ class _CampbellLabels:
         reach = [b for b in grid if distance(b) <= _MOST_COST * h / self.to_v]
         box = first_free_box(reach, placed, gap, frame, obstacles=markers, allowed=uncrossed, cost=distance,
                              bound=distance)
+        if box is None:
+            # boxes across the marker, their leaders short and steep: compressor_rotor's '12938'
+            # (0:15000:151) sits on mode 4 between modes 5 and 3, 6 and 8 pixels away; every
+            # slanting leader crossed one of them, a leader straight up crosses mode 5 inside the
+            # circle (its box beside the anchor was taken by the '1X compressor' label)
+            above = [tuple(b) for b in (np.array(boxes_around(
+                u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v, _PAD_POINTS * self.points,
+                clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT, straddle=_STRADDLE)) / to_px).tolist()]
+            # (no curve through such a box but inside the circle: its own curves run on through it)
+            box = first_free_box([b for b in above if distance(b) <= _MOST_COST * h / self.to_v], placed, gap,
+                                 frame, obstacles=markers, allowed=lambda b: uncrossed(b) and self.curves.free(b, circle),
+                                 cost=distance, bound=distance)
         if box is None:
             box = first_free_box(grid, placed, gap, frame, obstacles=markers, allowed=leader_clear, cost=cost,
                                  bound=distance)

@@ -81,6 +81,11 @@ def small_number(value: float, sign: bool = False) -> str:
     return f"{value:+.2f}" if sign else f"{value:.3f}"
 
 
+#: by default a chart of panels with more than this many bars draws the lowest modes only, this
+#: many of them; panels per row as many as fit this width [inches] (at least one)
+_WIDE_BARS, _FIRST_WIDE, _WIDEST = 24, 6, 24.0
+
+
 def plot_modes(result, title: str | None = None, modes=None, columns: int | None = None):
     """Bar chart of each oscillatory mode's coordinates: ``|shape|`` (translations in m,
     rotations in rad) divided by the mode's largest, grouped by body (each group named above
@@ -93,9 +98,11 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
     title : str, optional
     modes : sequence of int, optional
         The mode numbers drawn (as in ``result.to_dataframe()``, 1 = the lowest oscillatory
-        mode); default every oscillatory mode.
+        mode); default every oscillatory mode, or the lowest :data:`_FIRST_WIDE` where a panel
+        has more than :data:`_WIDE_BARS` bars (a flexible rotor's node coordinates: the title
+        says so).
     columns : int, optional
-        Panels per row (default up to 3).
+        Panels per row (default up to 3, as many as fit :data:`_WIDEST` inches).
 
     Returns
     -------
@@ -104,13 +111,16 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
     import matplotlib.pyplot as plt
 
     oscillatory = np.nonzero(result.oscillatory)[0]
-    numbers = list(range(1, len(oscillatory) + 1)) if modes is None else [int(n) for n in modes]
-    modes = oscillatory[np.asarray(numbers, dtype=int) - 1]
-    cols = max(1, min(columns or 3, len(modes)))
-    rows = max(1, int(np.ceil(len(modes) / cols)))
     labels = _labels(result)
+    # compressor_rotor's 53 modes of 56 node coordinates drew 53 panels 20 inches wide, three a
+    # row: a figure of 59 x 47 inches
+    shown = len(oscillatory) if modes is not None or len(labels) <= _WIDE_BARS else min(len(oscillatory), _FIRST_WIDE)
+    numbers = list(range(1, shown + 1)) if modes is None else [int(n) for n in modes]
+    modes = oscillatory[np.asarray(numbers, dtype=int) - 1]
     groups = _groups(result)
     width = 3.2 if len(labels) <= 6 else 0.35 * len(labels) + 1.0
+    cols = max(1, min(columns or max(1, min(3, int(_WIDEST // width))), len(modes)))
+    rows = max(1, int(np.ceil(len(modes) / cols)))
     fig, axes = plt.subplots(rows, cols, figsize=(width * cols, 2.6 * rows), layout="constrained",
                              squeeze=False)
     for ax in axes.ravel()[len(modes):]:
@@ -127,5 +137,7 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
         _name_bodies(ax, groups, len(labels))
         if ax.get_subplotspec().is_first_col():
             ax.set_ylabel("|u| [m], |θ| [rad]\n÷ the mode's largest", fontsize="small")
-    fig.suptitle(title or f"Mode shapes at {rpm_text(result.speed * 30 / np.pi)} rpm (|shape|, normalised)")
+    fig.suptitle((title or f"Mode shapes at {rpm_text(result.speed * 30 / np.pi)} rpm (|shape|, normalised)")
+                 + (f"\nmodes 1\u2013{shown} of {len(oscillatory)} (modes=[...] draws others; plot_shaft_lines "
+                    "draws a flexible rotor's shaft)" if shown < len(oscillatory) else ""))
     return fig

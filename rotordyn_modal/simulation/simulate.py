@@ -345,6 +345,8 @@ def _reached(matrix, state):
     for start in np.flatnonzero(state):
         if not reached[start]:
             reached[scipy.sparse.csgraph.breadth_first_order(drives, start, return_predecessors=False)] = True
+    if reached.all():
+        return matrix, np.asarray(state, dtype=float)         # no copy of the whole matrix
     index = np.flatnonzero(reached)
     return matrix[np.ix_(index, index)], np.asarray(state, dtype=float)[index]
 

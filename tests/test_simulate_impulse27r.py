@@ -105,12 +105,15 @@ def _built(roots, seed=3):
     return basis @ diagonal @ np.linalg.inv(basis), basis
 
 
-def test_the_fastest_mode_not_in_the_state_is_skipped_and_the_next_is_found():
-    """60 states: the two fastest pairs (|lambda| 1e6 and 5e5) are not in the state, so the answer is
-    the third's |lambda| (2e4), whatever the basis; with the fastest pair in it at 1e-6 of the
+@pytest.mark.parametrize("repeated", [False, True])
+def test_the_fastest_mode_not_in_the_state_is_skipped_and_the_next_is_found(repeated):
+    """60 states: the two fastest pairs (|lambda| 1e6 and 5e5, or the same pair twice: a repeated
+    root, whose shapes are any basis of its plane) are not in the state, so the answer is the
+    third's |lambda| (2e4), whatever the basis; with the fastest pair in it at 1e-6 of the
     others it is that pair's."""
     slow = [complex(-1.0 - k, 10.0 + 7 * k) for k in range(27)]
-    roots = [complex(-1e3, 1e6), complex(-10.0, 5e5), complex(-20.0, 2e4)] + slow
+    second = complex(-1e3, 1e6) if repeated else complex(-10.0, 5e5)
+    roots = [complex(-1e3, 1e6), second, complex(-20.0, 2e4)] + slow
     matrix, basis = _built(roots)
     moving = np.ones(60)
     moving[:4] = 0.0                                     # no share of the two fastest pairs

@@ -355,8 +355,10 @@ def _fastest_excited(matrix, state) -> float:
     """The largest ``|lambda|`` [1/s] among the modes of ``matrix`` (r, r) that ``state`` (r,)
     excites, without a dense eigen-solution: the ``k`` roots of largest ``|lambda|`` (``k`` of
     :data:`_KRYLOV_COUNTS` in turn; ARPACK to machine precision, its one start vector), their right
-    shapes ``v_k`` and left ones ``w_k`` (ARPACK on the transpose), and each one's share of the
-    state ``|c_k| max|v_k|``, ``c_k = w_k^T state / w_k^T v_k`` (the exact coefficient of ``v_k``).
+    shapes ``v_k`` and left ones ``w_k`` (ARPACK on the transpose, the same roots: else more are
+    sought), and each one's share of the state ``|c_k| max|v_k|``, ``c = (W^T V)^-1 W^T state``
+    (the exact coefficients of the ``v_k``: ``W^T V`` is diagonal for distinct roots, a block for
+    a repeated one).
     A mode is excited where its share is at least :data:`_EXCITED_SHARE` of the largest share found
     and of ``max|state|`` (``state = sum_k c_k v_k``: not all shares are below it over ``r``).
     Every root not found is no larger than the smallest found, so the largest excited one found
@@ -375,14 +377,24 @@ def _fastest_excited(matrix, state) -> float:
             adjoint, left = eigs(matrix.T, k=k, which="LM", tol=0, v0=start)
         except Exception:  # noqa: BLE001 - no convergence: more roots
             continue
-        left = left[:, [int(np.argmin(np.abs(adjoint - root))) for root in roots]]     # w_k of each lambda_k
-        shares = (np.abs(left.T @ state) / np.abs(np.sum(left * right, axis=0))) * np.abs(right).max(axis=0)
+        if not (_matched(roots, adjoint) and _matched(adjoint, roots)):
+            continue                     # not the same roots (a pair or a cluster cut apart): more roots
+        pairing = left.T @ right         # diagonal for distinct roots; a block for a repeated one
+        if not np.linalg.cond(pairing) < 1e10:
+            continue
+        shares = np.abs(np.linalg.solve(pairing, left.T @ state)) * np.abs(right).max(axis=0)
         if not np.all(np.isfinite(shares)):
             continue
         excited = shares >= _EXCITED_SHARE * max(shares.max(), np.abs(state).max())
         if excited.any():
             return float(np.abs(roots[excited]).max())
     return 0.0
+
+
+def _matched(roots, others) -> bool:
+    """Whether each of ``roots`` (k,) has one of ``others`` within 1e-8 of its ``|lambda|``."""
+    gaps = np.abs(np.asarray(roots)[:, None] - np.asarray(others)[None, :]).min(axis=1)
+    return bool(np.all(gaps <= 1e-8 * np.maximum(np.abs(roots), np.finfo(float).tiny)))
 
 
 class _Bounded:

@@ -211,7 +211,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     """
     import matplotlib.pyplot as plt
 
-    from ..simulation.runup import order_track, unsettled_spans, waterfall
+    from ..simulation.runup import STEADY_TOLERANCE, order_track, unsettled_spans, waterfall
     from ._labels import laid_out_renderer
 
     if critical is not None:  # the rotors' own orders (gear-mesh crossings sit at very low speeds)
@@ -251,7 +251,8 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     fig.suptitle(title or f"Run-up of {result.model_name or 'the machine'}")
     if unsure:
         warnings.warn("run-up: order track not separable from free vibration (a mode rung by a fast passage, or "
-                      "the start's transient) at " + "; ".join(unsure) + ": shaded on the figure; a slower ramp "
+                      "the start's transient) at " + "; ".join(unsure) + ": shaded on the figure (elsewhere the "
+                      f"track is the steady response within {STEADY_TOLERANCE:.0%} of its peak); a slower ramp "
                       "or a later start narrows it")
     if critical is not None and len(critical):
         for axis in (axes[0, 0], amplitude_ax, phase_ax):

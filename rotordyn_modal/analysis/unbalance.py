@@ -459,16 +459,17 @@ class UnbalanceResult:
 
     def _exact_peak(self, o: int, j: int, speed: float, amp: float, af: float):
         """``(speed [rad/s], amplitude, AF)`` of the swept peak at ``speed`` of curve ``(o, j)`` on
-        the exact response (:attr:`peak_speeds`, :attr:`peak_half_power`); the swept figures where
-        not computed."""
+        the exact response (:attr:`peak_speeds`, :attr:`peak_half_power`; AF infinite where the
+        response is unbounded, ``N1 = N2``); the swept figures where not computed."""
         if self.peak_swept_speeds is None:
             return speed, amp, af
         m = np.flatnonzero(self.peak_swept_speeds[o, j] == speed)
         if not m.size:
             return speed, amp, af
         at, (low, high) = float(self.peak_speeds[o, j, m[0]]), self.peak_half_power[o, j, m[0]]
-        width = abs(high - low)
-        return at, float(abs(self.peak_response[o, j, m[0]])), float(abs(at) / width) if width > 0 else np.nan
+        width = abs(high - low)                  # 0: unbounded (an undamped mode), AF infinite
+        af = abs(at) / width if width > 0 else (np.inf if width == 0 else np.nan)
+        return at, float(abs(self.peak_response[o, j, m[0]])), float(af)
 
     def _with_cases(self, table):
         """A table of the cases' response: ``source`` the case's rotor, the case in a last column."""
@@ -505,6 +506,13 @@ class UnbalanceResult:
         q = _coordinate_response(model, sources, rotor_forces, np.tile(speeds, len(sources)), w.ravel(), shifts,
                                  motions)
         return _clearance_planes(model, q, motions, len(sources), len(speeds))
+
+    @staticmethod
+    def required_margin(af: float, position: str = "below") -> float:
+        """:func:`required_separation_margin` [%] (``af`` NaN or ``np.inf``: the largest any AF
+        requires); the separation margins call it through a result, so that they need not import
+        this module (which imports them)."""
+        return required_separation_margin(af, position)
 
     @staticmethod
     def source_curve(model, outputs, quantity: str = "displacement"):
@@ -636,13 +644,14 @@ def required_separation_margin(af: float, position: str = "below") -> float:
     Parameters
     ----------
     af : float
-        Amplification factor [-]; NaN gives NaN (not evaluated).
+        Amplification factor [-]; NaN gives NaN (not evaluated); ``inf`` the largest any AF
+        requires (16 below, 26 above).
     position : {'below', 'above'}
         Where the critical speed lies relative to the operating range.
     """
     if position not in ("below", "above"):
         raise InputError(f"separation margin position {position!r}: expected 'below' or 'above'")
-    if not np.isfinite(af) or af < 2.5:
+    if np.isnan(af) or af < 2.5:
         return 0.0 if np.isfinite(af) else np.nan
     margin = 17.0 * (1 - 1 / (af - 1.5))
     return min(16.0, margin) if position == "below" else min(26.0, 10.0 + margin)

@@ -187,6 +187,9 @@ _AF_SHARE = 1e-8
 #: ... the golden-section search for a swept peak's maximum below this share (the peak's speed to
 #: about 1e-7 of itself where its interval is a fifth of it; the AF's level moves by its square)
 _AF_PEAK_SHARE = 1e-6
+#: a peak whose half-power band is narrower than this share of its search interval (two swept
+#: steps) is unbounded (an undamped mode; the search ends at round-off of the singularity)
+_UNBOUNDED_SHARE = 1e-3
 
 
 def cut_maxima(curve, speeds, amplitude, found, half_power=True, share=_SEARCH_SHARE):
@@ -273,7 +276,10 @@ def exact_peaks(curve, speeds, amplitude):
         The response at ``at``.
     half_power : ndarray, shape (n_out, n_src, Q, 2) [rad/s]
         The half-power points ``N1, N2`` (signed speeds, in the order of ``|speed|``); NaN on a
-        side where the swept amplitude does not fall below the level within the sweep.
+        side where the swept amplitude does not fall below the level within the sweep. A peak
+        whose band is narrower than :data:`_UNBOUNDED_SHARE` of its search interval (an undamped
+        mode: the response is unbounded there; AF above ``500 N_c`` over a swept step) is
+        reported at its swept speed and response, with ``N1 = N2`` that speed (AF infinite).
     """
     c, sides = _swept_peaks(np.asarray(speeds, dtype=float), np.asarray(amplitude))
     n_out, n_src = np.shape(amplitude)[:2]
@@ -291,6 +297,11 @@ def exact_peaks(curve, speeds, amplitude):
                                          _AF_SHARE)
     n = c["o"].size
     half_power = np.stack([points[:n], points[n:]], axis=1)                 # (C, 2): N1, N2
+    # narrower than the search resolves (no damping): unbounded, read at the swept peak
+    unbounded = np.abs(half_power[:, 1] - half_power[:, 0]) < _UNBOUNDED_SHARE * c["span"]
+    if unbounded.any():
+        c["at"], half_power[unbounded] = np.where(unbounded, c["swept"], c["at"]), c["swept"][unbounded, None]
+        c["value"] = np.where(unbounded, curve(c["swept"], c["o"], c["j"]), c["value"])
     return _packed(c, half_power, n_out, n_src)
 
 

@@ -144,3 +144,21 @@ def test_the_cli_says_why_an_unknown_af_is_judged_so(tmp_path, capsys):
     err = capsys.readouterr().err
     lines = [line for line in err.splitlines() if line.startswith("AF unknown")]
     assert len(lines) == 1 and "16 % below" in lines[0] and "26 % above" in lines[0]
+
+
+def test_a_search_over_its_work_keeps_the_swept_reading(monkeypatch):
+    """Where the exact peaks' search would cost more than ``unbalance_peaks._WORK`` (a model of
+    a few hundred coordinates with many peaks), the AF table reads the swept speeds, as
+    ``amplification_factors`` does (no search is started)."""
+    from rotordyn_modal.analysis import unbalance_peaks
+    from rotordyn_modal.analysis.unbalance import amplification_factors
+
+    speeds = np.linspace(100.0, 6000.0, 51) * RPM
+    model = rotor_on_springs([{"rotor": "shaft", "amount": U}])
+    monkeypatch.setattr(unbalance_peaks, "_AF_CALLS", 1e12)
+    result = rdm.unbalance_response(model, speeds)
+    assert result.peak_speeds is None
+    ((speed, amplitude, af),) = amplification_factors(speeds, result.amplitude[0, 0])
+    row = result.peaks().iloc[0]
+    assert (row.amplitude, row.amplification_factor) == (amplitude, af)
+    assert row.speed_rpm == pytest.approx(speed / RPM, rel=1e-15) == 3522.0         # a swept speed

@@ -201,8 +201,8 @@ class UnbalanceResult:
         response (API 684's amplification factor is ``|speed| / width``).
     peak_swept_speeds : ndarray, shape (n_outputs, n_sources, Q), or None
         Each curve's swept peaks (:func:`amplification_factors`' speeds) [rad/s], NaN after a
-        curve's last; None where not computed (a large model, ``resonances=False``: the table's
-        AF then from the swept speeds).
+        curve's last; None where not computed (a large model, ``resonances=False``, or a search
+        costing more than about a second: the table's AF then from the swept speeds).
     peak_speeds : ndarray, shape (n_outputs, n_sources, Q), or None
         The maximum of the exact response between each swept peak's two neighbours [rad/s]
         (:func:`~rotordyn_modal.analysis.unbalance_peaks.exact_peaks`).
@@ -779,7 +779,7 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
     if wanted and found is None and not why:
         found = unresolved_criticals(model, speeds, ratios)
     curve = _own_source_curve(model, outputs, quantity) if wanted and not is_large(model) else None
-    exact = _exact_peak_fields(curve, speeds, swept)
+    exact = _exact_peak_fields(curve, speeds, swept, float(model.dofs.n) ** 3)
     if not wanted or found is None:
         return dict(dict.fromkeys(_RESONANCE_FIELDS), cut_peak_note=why, **exact)
     n_outputs = swept.shape[0]
@@ -805,15 +805,15 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
             "cut_peak_speeds": peak_at, "cut_peak_response": peak_value, "cut_peak_widths": peak_width, **exact}
 
 
-def _exact_peak_fields(curve, speeds, swept) -> dict:
+def _exact_peak_fields(curve, speeds, swept, solve_work) -> dict:
     """``peak_swept_speeds``, ``peak_speeds``, ``peak_response`` and ``peak_half_power`` of
     :class:`UnbalanceResult`: the swept peaks of ``swept`` (n_outputs, n_src, N) read on the exact
-    response ``curve`` (:func:`.unbalance_peaks.exact_peaks`); None each without a curve."""
+    response ``curve`` (:func:`.unbalance_peaks.exact_peaks`, ``solve_work`` one solve's work);
+    None each without a curve or where the search would cost too much."""
     from .unbalance_peaks import exact_peaks
 
-    if curve is None:
-        return dict.fromkeys(_EXACT_PEAK_FIELDS)
-    return dict(zip(_EXACT_PEAK_FIELDS, exact_peaks(curve, speeds, np.abs(swept))))
+    found = None if curve is None else exact_peaks(curve, speeds, np.abs(swept), solve_work)
+    return dict.fromkeys(_EXACT_PEAK_FIELDS) if found is None else dict(zip(_EXACT_PEAK_FIELDS, found))
 
 
 def _own_source_curve(model, outputs, quantity):

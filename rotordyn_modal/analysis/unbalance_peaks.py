@@ -187,6 +187,9 @@ _AF_SHARE = 1e-8
 #: ... the golden-section search for a swept peak's maximum below this share (the peak's speed to
 #: about 1e-7 of itself where its interval is a fifth of it; the AF's level moves by its square)
 _AF_PEAK_SHARE = 1e-6
+#: the solves of one peak's searches, about (a golden-section step and a bisection step of each
+#: side are one call for every peak at once)
+_AF_CALLS = 60
 #: a peak whose half-power band is narrower than this share of its search interval (two swept
 #: steps) is unbounded (an undamped mode; the search ends at round-off of the singularity)
 _UNBOUNDED_SHARE = 1e-3
@@ -247,7 +250,7 @@ def cut_maxima(curve, speeds, amplitude, found, half_power=True, share=_SEARCH_S
     return _per_curve(c, widths, n_out, n_src)
 
 
-def exact_peaks(curve, speeds, amplitude):
+def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0):
     """The AF table's peaks on the exact response: each swept peak of each curve (``scipy``'s
     ``find_peaks`` over each direction of spin, as ``unbalance.amplification_factors``) refined to
     the maximum of ``|response|`` between its two swept neighbours (golden-section search), and
@@ -266,9 +269,15 @@ def exact_peaks(curve, speeds, amplitude):
         The swept speeds, any order (repeats allowed).
     amplitude : ndarray, shape (n_out, n_src, N)
         ``|response|`` at ``speeds``.
+    solve_work : float
+        The work of one solve of ``curve`` at one speed (``n_dof^3``): the peaks are not looked
+        for (None) where the search, :data:`_AF_CALLS` solves a peak, would cost more than
+        :data:`_WORK` (about a second of one core; the AF table then reads the swept speeds).
 
     Returns
     -------
+    tuple or None
+        None where not looked for, else:
     swept, at : ndarray, shape (n_out, n_src, Q) [rad/s]
         Each curve's swept peaks' speeds and the maxima of the exact response found from them,
         NaN after a curve's last.
@@ -282,6 +291,8 @@ def exact_peaks(curve, speeds, amplitude):
         reported at its swept speed and response, with ``N1 = N2`` that speed (AF infinite).
     """
     c, sides = _swept_peaks(np.asarray(speeds, dtype=float), np.asarray(amplitude))
+    if c["o"].size * _AF_CALLS * solve_work > _WORK:
+        return None
     n_out, n_src = np.shape(amplitude)[:2]
     if not c["o"].size:
         empty = np.full((n_out, n_src, 0), np.nan)

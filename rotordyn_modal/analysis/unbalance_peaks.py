@@ -250,7 +250,7 @@ def cut_maxima(curve, speeds, amplitude, found, half_power=True, share=_SEARCH_S
     return _per_curve(c, widths, n_out, n_src)
 
 
-def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0):
+def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=None):
     """The AF table's peaks on the exact response: each swept peak of each curve (``scipy``'s
     ``find_peaks`` over each direction of spin, as ``unbalance.amplification_factors``) refined to
     the maximum of ``|response|`` between its two swept neighbours (golden-section search), and
@@ -269,6 +269,10 @@ def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0):
         The swept speeds, any order (repeats allowed).
     amplitude : ndarray, shape (n_out, n_src, N)
         ``|response|`` at ``speeds``.
+    criticals : list of ndarray, optional
+        Each source's damped critical speeds within the sweep [rad/s] (:func:`unresolved_criticals`'
+        ``critical``): where a peak's band meets one, the response's minimum between them is
+        looked for (:func:`_half_power_brackets`).
     solve_work : float
         The work of one solve of ``curve`` at one speed (``n_dof^3``): the peaks are not looked
         for (None) where the search, :data:`_AF_CALLS` solves a peak, would cost more than
@@ -299,7 +303,7 @@ def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0):
         return empty, empty.copy(), empty + 0j, np.full((n_out, n_src, 0, 2), np.nan)
     c = _refined(curve, c, _AF_PEAK_SHARE)
     level = np.abs(c["value"]) / np.sqrt(2.0)
-    inside, outside = _half_power_brackets(c, sides, level)
+    inside, outside = _half_power_brackets(curve, c, sides, level, criticals)
     known = np.isfinite(outside)
     points = np.full(outside.shape, np.nan)
     if known.any():
@@ -337,23 +341,65 @@ def _swept_peaks(speeds, amplitude):
             for name, items in c.items()}, sides
 
 
-def _half_power_brackets(c, sides, level):
+def _half_power_brackets(curve, c, sides, level, criticals=None):
     """Each peak's brackets of its half-power points: ``inside`` (at or above ``level``) and
-    ``outside`` (below it), each shape (2C,) [rad/s], first the lower side's then the upper's:
-    the peak's nearest swept speed below ``level`` on that side, and the swept speed (or the peak)
-    next to it towards the peak; NaN where no swept speed on that side is below it."""
+    ``outside`` (below it), each shape (2C,) [rad/s], first the lower side's then the upper's,
+    NaN where the amplitude does not fall below ``level`` on that side within the sweep.
+
+    Walking out from the peak over the swept speeds: the first one below ``level`` and the one
+    (or the peak) before it. But the response may dip below ``level`` between swept speeds and
+    rise again, towards a neighbouring peak (another of the curve's peaks, or a damped critical
+    speed of ``criticals``, a list per source of speeds [rad/s], that the swept speeds may not
+    resolve): between the peak and each such speed nearer than that swept speed its minimum is
+    searched (:func:`_gap_minima`), and the nearest below ``level`` gives the bracket, so that
+    the crossing is the nearest whatever the swept speeds (examples/fan_on_bearings.toml, 3891
+    rpm beside a peak of AF 101 at 3949 rpm: AF 27.1 at 51 report points, 35.7 at 401, without it)."""
     n = c["o"].size
     inside, outside = np.full(2 * n, np.nan), np.full(2 * n, np.nan)
+    gaps = []                                     # (slot, start, end) [|rad/s|], each side's nearest first
     for m in range(n):
         sign, x, y = sides[c["side"][m]]
-        u, below = abs(c["at"][m]), y[c["o"][m], c["j"][m]] < level[m]
-        lower, upper = np.flatnonzero((x < u) & below), np.flatnonzero((x > u) & below)
-        if lower.size:
-            k = lower[-1]
-            inside[m], outside[m] = sign * min(x[k + 1], u), sign * x[k]
-        if upper.size:
-            k = upper[0]
-            inside[n + m], outside[n + m] = sign * max(x[k - 1], u), sign * x[k]
+        u, yy = abs(c["at"][m]), y[c["o"][m], c["j"][m]]
+        marks = _marks(c, m, criticals)
+        for slot, step in ((m, -1), (n + m, 1)):
+            below = np.flatnonzero(((x < u) if step < 0 else (x > u)) & (yy < level[m]))
+            limit = x[0] if step < 0 else x[-1]
+            if below.size:
+                k = below[-1] if step < 0 else below[0]
+                limit = x[k]
+                inside[slot], outside[slot] = sign * (min(x[k + 1], u) if step < 0 else max(x[k - 1], u)), sign * x[k]
+            t = np.sort(marks[(step * (marks - u) > 1e-9 * u) & (step * (limit - marks) > 0)])[::step]
+            gaps += [(slot, a, b) for a, b in zip(np.r_[u, t[:-1]], t)]
+    return _gap_minima(curve, c, sides, level, gaps, inside, outside)
+
+
+def _marks(c, m, criticals):
+    """The speeds [|rad/s|] of peak ``m``'s neighbours: the other peaks of its curve (its
+    direction of spin) and its source's damped critical speeds (``criticals``) of that direction."""
+    same = (c["o"] == c["o"][m]) & (c["j"] == c["j"][m]) & (c["side"] == c["side"][m])
+    marks = [np.abs(c["at"][same])]
+    if criticals is not None and len(criticals[c["j"][m]]):
+        speeds = np.asarray(criticals[c["j"][m]], dtype=float)
+        marks.append(np.abs(speeds[np.sign(speeds) * np.sign(c["swept"][m]) >= 0]))
+    return np.concatenate(marks)
+
+
+def _gap_minima(curve, c, sides, level, gaps, inside, outside):
+    """``inside``, ``outside`` (2C,) of :func:`_half_power_brackets` with, on each side, the nearest
+    of its ``gaps`` (``(slot, start, end)`` [|rad/s|]) where the response's minimum (golden-section
+    search of ``1 / |response|``) is below ``level``: its start inside, that minimum outside."""
+    if not gaps:
+        return inside, outside
+    n = c["o"].size
+    slot = np.array([g[0] for g in gaps])
+    m = slot % n
+    sign = np.array([sides[c["side"][k]][0] for k in m])
+    ends = np.sort(sign[:, None] * np.array([[g[1], g[2]] for g in gaps]), axis=1)
+    found = _refined(lambda s, o, j: 1.0 / np.maximum(np.abs(curve(s, o, j)), 1e-300),
+                     {"o": c["o"][m], "j": c["j"][m], "a": ends[:, 0], "b": ends[:, 1]}, _AF_PEAK_SHARE)
+    deep = 1.0 / np.abs(found["value"]) < level[m]
+    for k in np.flatnonzero(deep)[::-1]:                     # a side's nearest gap last: it stays
+        inside[slot[k]], outside[slot[k]] = sign[k] * gaps[k][1], found["at"][k]
     return inside, outside
 
 

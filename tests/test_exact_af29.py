@@ -162,3 +162,24 @@ def test_a_search_over_its_work_keeps_the_swept_reading(monkeypatch):
     row = result.peaks().iloc[0]
     assert (row.amplitude, row.amplification_factor) == (amplitude, af)
     assert row.speed_rpm == pytest.approx(speed / RPM, rel=1e-15) == 3522.0         # a swept speed
+
+
+def test_a_half_power_point_is_the_nearest_crossing_beside_a_hidden_peak():
+    """examples/fan_on_bearings.toml, report at MCS 3000 rpm: the motor's 3891 rpm peak has a
+    sharper one (AF about 101) at 3949 rpm beside it, between the 51 report points' swept speeds.
+    Its upper half-power point is where the response first falls to peak / sqrt(2), before that
+    neighbour (about 3932 rpm), at 51 points as at 401 (before the minimum between them was
+    searched: AF 27.1 at 51 points, 35.7 at 401; main, swept: 24.8 and 35.95)."""
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+
+    def peak(points):
+        inputs = report_collect.ReportInputs("api684", 3000 * RPM, points=points)
+        response = api_unbalance_response(model, inputs.speeds, inputs.mcs)
+        o, j = response.outputs.index("probe-DE-x"), response.sources.index("api-static:motor")
+        k = int(np.nanargmin(np.abs(response.peak_speeds[o, j] - 3891.4 * RPM)))
+        return response.peak_speeds[o, j, k], response.peak_half_power[o, j, k]
+
+    (coarse, (low, high)), (fine, band) = peak(51), peak(401)
+    assert coarse == pytest.approx(fine, rel=1e-7) and abs(coarse / RPM - 3891.4) < 1
+    np.testing.assert_allclose([low, high], band, rtol=1e-7)
+    assert 3900 < high / RPM < 3945                                   # before the 3949 rpm peak

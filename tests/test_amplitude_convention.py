@@ -20,6 +20,7 @@ import pytest
 
 import rotordyn_modal as rdm
 from rotordyn_modal.cli import main
+from test_exact_af29 import _closed_form          # the rigid rotor's peak by hand: MODEL is that rotor
 
 #: convention -> (factor on the 0-peak amplitude, words of the axis label, column of the tables)
 CONVENTIONS = {"peak": (1.0, "0-peak", "amplitude_0pk"), "pk-pk": (2.0, "peak-to-peak", "amplitude_pkpk"),
@@ -114,11 +115,13 @@ def test_unbalance_peaks_table_csv_and_figure_show_the_one_convention(amplitude,
     (fig,) = figures
     assert len(peaks) == 1
     row = peaks.iloc[0]
-    drawn, label = _curve_at(fig, "probe-z", row.speed_rpm)
+    drawn, label = _curve_at(fig, "probe-z", speeds[np.argmax(reference)])
     assert words in label
-    assert row[column] == pytest.approx(drawn, rel=1e-12)
-    assert row[column] == pytest.approx(factor * reference[np.argmax(reference)], rel=1e-12)
-    assert row.speed_rpm == speeds[np.argmax(reference)] and row.amplification_factor > 2.5
+    assert drawn == pytest.approx(factor * reference[np.argmax(reference)], rel=1e-12)
+    # the table's peak is the exact response's (issue 29 §4): the closed form's, in the convention
+    n_c, _, _, peak = _closed_form()
+    assert row[column] == pytest.approx(factor * peak, rel=1e-9)
+    assert row.speed_rpm == pytest.approx(n_c * 30 / np.pi, rel=1e-6) and row.amplification_factor > 2.5
 
     csv = pd.read_csv(out)
     np.testing.assert_allclose(csv["amplitude"], reference, rtol=1e-9)            # 0-peak, as always
@@ -188,11 +191,16 @@ def test_report_af_table_figure_and_limits_show_the_one_convention(amplitude, co
     shown = float(row[column]) * 1e-6
     unbalance = next(f for f in figures if f.axes and f.axes[0].get_ylabel().startswith("Amplitude"))
     curve = next(line for line in unbalance.axes[0].get_lines() if line.get_label() == "probe-z: 1X api-static:shaft")
-    i = int(np.argmin(np.abs(curve.get_xdata() - peak_rpm)))
+    i = int(np.argmax(reference))
     drawn = curve.get_ydata()[i] / PER_METRE[unbalance.axes[0].get_ylabel().rpartition(" ")[2]]
     assert words in unbalance.axes[0].get_ylabel()
-    assert shown == pytest.approx(drawn, rel=5e-4)                          # the table's 4 digits
-    assert shown == pytest.approx(factor * reference[i], rel=5e-4) and reference[i] == reference.max()
+    assert curve.get_xdata()[i] == pytest.approx(speeds[i], rel=1e-12)
+    assert drawn == pytest.approx(factor * reference[i], rel=1e-9)
+    # the table's peak is the exact response's (issue 29 §4): the closed form's, in the convention
+    # (the API static case's amount 2 x 6350 m / N g mm = 127 g mm, the closed form's 5e-5 kg m scaled)
+    n_c, _, _, peak = _closed_form()
+    assert shown == pytest.approx(factor * peak * (2 * 6350 * 30.0 / 3000 * 1e-6) / 5e-5, rel=5e-4)   # 4 digits
+    assert peak_rpm == pytest.approx(n_c * 30 / np.pi, rel=2e-6)                                         # 6 digits
 
     check = data.results["checks"].to_dataframe().iloc[0]                   # judged peak-to-peak
     short = {"0-peak": "0-peak", "peak-to-peak": "pk-pk", "RMS": "RMS"}[words]

@@ -199,6 +199,18 @@ class UnbalanceResult:
     cut_peak_widths : ndarray, shape (n_outputs, n_sources, Q), or None
         The width ``N2 - N1`` [rad/s] between the peak's half-power points on the exact
         response (API 684's amplification factor is ``|speed| / width``).
+    peak_swept_speeds : ndarray, shape (n_outputs, n_sources, Q), or None
+        Each curve's swept peaks (:func:`amplification_factors`' speeds) [rad/s], NaN after a
+        curve's last; None where not computed (a large model, ``resonances=False``, or a search
+        costing more than about a second: the table's AF then from the swept speeds).
+    peak_speeds : ndarray, shape (n_outputs, n_sources, Q), or None
+        The maximum of the exact response between each swept peak's two neighbours [rad/s]
+        (:func:`~rotordyn_modal.analysis.unbalance_peaks.exact_peaks`).
+    peak_response : ndarray, shape (n_outputs, n_sources, Q), complex, or None
+        The response there.
+    peak_half_power : ndarray, shape (n_outputs, n_sources, Q, 2), or None
+        Its half-power points ``N1, N2`` on the exact response [rad/s] (NaN on a side where the
+        amplitude does not fall to peak / sqrt(2) within the sweep).
     cut_peak_note : str
         Why those peaks were not looked for ('not looked for in a model of 5400 coordinates',
         :func:`~rotordyn_modal.analysis.unbalance_peaks.not_looked_for`; the figure's legend
@@ -232,6 +244,10 @@ class UnbalanceResult:
     cut_peak_response: np.ndarray | None = None
     cut_peak_widths: np.ndarray | None = None
     cut_peak_note: str = ""
+    peak_swept_speeds: np.ndarray | None = None
+    peak_speeds: np.ndarray | None = None
+    peak_response: np.ndarray | None = None
+    peak_half_power: np.ndarray | None = None
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -380,10 +396,12 @@ class UnbalanceResult:
         pandas.DataFrame
             ``output, source, speed_rpm, amplitude (0-peak), amplification_factor,
             separation_margin_pct, required_margin_pct`` [, ``amplitude_pkpk`` | ``amplitude_rms``].
-            A peak that the line through the swept speeds cuts (:meth:`cut_peaks`) is reported at
-            the maximum of the exact response, with the response there and ``AF = |speed| /
-            (N2 - N1)``, its half-power points on the exact response (the swept points around it
-            would give a lower peak and a wider band). A peak of a curve at round-off (amplitude at most :data:`ROUND_OFF_AMPLITUDE` times
+            Each peak is reported at the maximum of the exact response, with the response there
+            and ``AF = |speed| / (N2 - N1)``, its half-power points on the exact response
+            (:attr:`peak_speeds`, :attr:`peak_half_power`; a peak that the line through the swept
+            speeds cuts, :meth:`cut_peaks`, too): neither depends on the swept speeds (the swept
+            points would give a lower peak and a band interpolated between them; a large model:
+            those, ``cut_peak_note``). A peak of a curve at round-off (amplitude at most :data:`ROUND_OFF_AMPLITUDE` times
             the largest of the response, every output and source: an API couple case seen at
             the centre of mass of a symmetric rotor, 3.5e-21 m beside 1e-5 m) is no resonance
             and is left out.
@@ -413,13 +431,14 @@ class UnbalanceResult:
         return self._with_cases(_with_convention(table, amplitude or self.amplitude_kind, after=None))
 
     def _resolved_peaks(self, output: str, source: str):
-        """:func:`amplification_factors` of one curve, a peak that the swept speeds cut
-        (:meth:`cut_peaks`) reported at the maximum of the exact response, with the response there
-        and ``AF = |speed| / (N2 - N1)`` (its half-power points): one between the two swept
-        speeds around a swept peak replaces it, one elsewhere (the swept curve showing no peak)
-        is added; ``[(speed [rad/s], amplitude, AF), ...]`` by speed."""
+        """:func:`amplification_factors` of one curve, each swept peak read on the exact response
+        (:meth:`_exact_peak`), and a peak that the swept speeds cut (:meth:`cut_peaks`) reported
+        at the maximum of the exact response, with the response there and ``AF = |speed| / (N2 -
+        N1)`` (its half-power points): one between the two swept speeds around a swept peak
+        replaces it, one elsewhere (the swept curve showing no peak) is added; ``[(speed [rad/s],
+        amplitude, AF), ...]`` by speed."""
         o, j = self.outputs.index(output), self.sources.index(source)
-        found = amplification_factors(self.speeds, self.amplitude[o, j])
+        found = [self._exact_peak(o, j, *peak) for peak in amplification_factors(self.speeds, self.amplitude[o, j])]
         at, response, band = self.cut_peaks(output, source)
         if not len(at):
             return found
@@ -437,6 +456,20 @@ class UnbalanceResult:
             out.append((speed, amp, af))
         out += [(float(a), float(abs(r)), float(abs(a) / b)) for a, r, b in zip(at, response, band)]
         return sorted(out, key=lambda peak: peak[0])
+
+    def _exact_peak(self, o: int, j: int, speed: float, amp: float, af: float):
+        """``(speed [rad/s], amplitude, AF)`` of the swept peak at ``speed`` of curve ``(o, j)`` on
+        the exact response (:attr:`peak_speeds`, :attr:`peak_half_power`; AF infinite where the
+        response is unbounded, ``N1 = N2``); the swept figures where not computed."""
+        if self.peak_swept_speeds is None:
+            return speed, amp, af
+        m = np.flatnonzero(self.peak_swept_speeds[o, j] == speed)
+        if not m.size:
+            return speed, amp, af
+        at, (low, high) = float(self.peak_speeds[o, j, m[0]]), self.peak_half_power[o, j, m[0]]
+        width = abs(high - low)                  # 0: unbounded (an undamped mode), AF infinite
+        af = abs(at) / width if width > 0 else (np.inf if width == 0 else np.nan)
+        return at, float(abs(self.peak_response[o, j, m[0]])), float(af)
 
     def _with_cases(self, table):
         """A table of the cases' response: ``source`` the case's rotor, the case in a last column."""
@@ -473,6 +506,13 @@ class UnbalanceResult:
         q = _coordinate_response(model, sources, rotor_forces, np.tile(speeds, len(sources)), w.ravel(), shifts,
                                  motions)
         return _clearance_planes(model, q, motions, len(sources), len(speeds))
+
+    @staticmethod
+    def required_margin(af: float, position: str = "below") -> float:
+        """:func:`required_separation_margin` [%] (``af`` NaN or ``np.inf``: the largest any AF
+        requires); the separation margins call it through a result, so that they need not import
+        this module (which imports them)."""
+        return required_separation_margin(af, position)
 
     @staticmethod
     def source_curve(model, outputs, quantity: str = "displacement"):
@@ -604,13 +644,14 @@ def required_separation_margin(af: float, position: str = "below") -> float:
     Parameters
     ----------
     af : float
-        Amplification factor [-]; NaN gives NaN (not evaluated).
+        Amplification factor [-]; NaN gives NaN (not evaluated); ``inf`` the largest any AF
+        requires (16 below, 26 above).
     position : {'below', 'above'}
         Where the critical speed lies relative to the operating range.
     """
     if position not in ("below", "above"):
         raise InputError(f"separation margin position {position!r}: expected 'below' or 'above'")
-    if not np.isfinite(af) or af < 2.5:
+    if np.isnan(af) or af < 2.5:
         return 0.0 if np.isfinite(af) else np.nan
     margin = 17.0 * (1 - 1 / (af - 1.5))
     return min(16.0, margin) if position == "below" else min(26.0, 10.0 + margin)
@@ -731,13 +772,17 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
     found (:func:`api_unbalance_response`'s cases, one machine); ``form``: the model's state form,
     if made already (whether the peaks are looked for is read from it: where they are not, the
     form is not made again)."""
-    from .unbalance_peaks import cut_maxima, not_looked_for, unresolved_criticals
+    from ..assembly import is_large
+    from .unbalance_peaks import _AF_SHARE, cut_maxima, not_looked_for, unresolved_criticals
 
     why = not_looked_for(model, speeds, form) if wanted and found is None else ""
     if wanted and found is None and not why:
         found = unresolved_criticals(model, speeds, ratios)
+    curve = _own_source_curve(model, outputs, quantity) if wanted and not is_large(model) else None
+    exact = _exact_peak_fields(curve, speeds, swept, float(model.dofs.n) ** 3,
+                               None if found is None else [critical for critical, _ in found])
     if not wanted or found is None:
-        return dict(dict.fromkeys(_RESONANCE_FIELDS), cut_peak_note=why)
+        return dict(dict.fromkeys(_RESONANCE_FIELDS), cut_peak_note=why, **exact)
     n_outputs = swept.shape[0]
     width = max(len(c) for c, _ in found)
     at = np.full((len(found), width), np.nan)
@@ -755,10 +800,22 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
         computed = _sensor_response(model, every, outputs, quantity, own.ravel())[2]   # (n_out, n_src, K)
         for j in range(len(found)):
             values[:, j, :start[j + 1] - start[j]] = computed[:, j, start[j]:start[j + 1]]
-    peak_at, peak_value, peak_width = cut_maxima(_own_source_curve(model, outputs, quantity), speeds,
-                                                 np.abs(swept), found)
+    peak_at, peak_value, peak_width = cut_maxima(curve or _own_source_curve(model, outputs, quantity), speeds,
+                                                 np.abs(swept), found, share=_AF_SHARE)
     return {"resonance_speeds": at, "resonance_bands": bands, "resonance_response": values,
-            "cut_peak_speeds": peak_at, "cut_peak_response": peak_value, "cut_peak_widths": peak_width}
+            "cut_peak_speeds": peak_at, "cut_peak_response": peak_value, "cut_peak_widths": peak_width, **exact}
+
+
+def _exact_peak_fields(curve, speeds, swept, solve_work, criticals=None) -> dict:
+    """``peak_swept_speeds``, ``peak_speeds``, ``peak_response`` and ``peak_half_power`` of
+    :class:`UnbalanceResult`: the swept peaks of ``swept`` (n_outputs, n_src, N) read on the exact
+    response ``curve`` (:func:`.unbalance_peaks.exact_peaks`, ``solve_work`` one solve's work,
+    ``criticals`` each source's damped critical speeds that no swept speed resolves); None each
+    without a curve or where the search would cost too much."""
+    from .unbalance_peaks import exact_peaks
+
+    found = None if curve is None else exact_peaks(curve, speeds, np.abs(swept), solve_work, criticals)
+    return dict.fromkeys(_EXACT_PEAK_FIELDS) if found is None else dict(zip(_EXACT_PEAK_FIELDS, found))
 
 
 def _own_source_curve(model, outputs, quantity):
@@ -790,6 +847,8 @@ def _own_source_curve(model, outputs, quantity):
 #: the fields of :class:`UnbalanceResult` that :func:`_unresolved_fields` gives
 _RESONANCE_FIELDS = ("resonance_speeds", "resonance_bands", "resonance_response",
                      "cut_peak_speeds", "cut_peak_response", "cut_peak_widths")
+#: ... and :func:`_exact_peak_fields`
+_EXACT_PEAK_FIELDS = ("peak_swept_speeds", "peak_speeds", "peak_response", "peak_half_power")
 
 
 def _clearance_planes(model, q, motions, n_src, n):
@@ -872,8 +931,10 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
     with phase(progress, "unbalance: damped critical speeds"):
         found = unresolved_criticals(model, _arguments.speeds(speeds, increasing=False),
                                      [model.rotor(r).speed_ratio for r in rotors])
+    # resonances=True: each case's AF table on its exact response (its damped critical speeds are
+    # the machine's, not looked for again where not found: not_looked_for says why)
     results = [unbalance_response(case, speeds, outputs=outputs, quantity=quantity, amplitude=amplitude,
-                                  progress=progress, resonances=found is not None,
+                                  progress=progress, resonances=True,
                                   _criticals=None if found is None else [found[k]],
                                   _label=f"unbalance case {k + 1} of {len(cases)}")
                for k, (_, case) in enumerate(cases)]
@@ -889,7 +950,8 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
         ground_forces=joined("ground_forces", 2), bearing_forces=joined("bearing_forces", 2),
         bearing_point_forces=joined("bearing_point_forces", 2), orbit_planes=joined("orbit_planes", 1),
         spin_signs=joined("spin_signs", 0), clearance_planes=joined("clearance_planes", 1),
-        **_joined_resonances(results), cut_peak_note="" if found is not None else not_looked_for(model, speeds))
+        **_joined_resonances(results), **_joined_exact_peaks(results),
+        cut_peak_note="" if found is not None else not_looked_for(model, speeds))
 
 
 def _joined_resonances(results) -> dict:
@@ -898,12 +960,24 @@ def _joined_resonances(results) -> dict:
     if any(r.resonance_speeds is None for r in results):
         return dict.fromkeys(_RESONANCE_FIELDS)
 
-    def joined(name, axis):
-        parts = [getattr(r, name) for r in results]
-        width = max(part.shape[-1] for part in parts)
-        padded = [np.pad(part, [(0, 0)] * (part.ndim - 1) + [(0, width - part.shape[-1])], constant_values=np.nan)
-                  for part in parts]
-        return np.concatenate(padded, axis=axis)
-
-    return {name: joined(name, 0 if name in ("resonance_speeds", "resonance_bands") else 1)
+    return {name: _padded_join([getattr(r, name) for r in results], 0 if name in ("resonance_speeds",
+                                                                                  "resonance_bands") else 1)
             for name in _RESONANCE_FIELDS}
+
+
+def _joined_exact_peaks(results) -> dict:
+    """The exact peaks' fields (:func:`_exact_peak_fields`) of ``results`` (one source each) as one
+    result's, each source's padded with NaN to the most peaks; None each where one is not computed."""
+    if any(r.peak_speeds is None for r in results):
+        return dict.fromkeys(_EXACT_PEAK_FIELDS)
+    return {name: _padded_join([getattr(r, name) for r in results], 1, 2) for name in _EXACT_PEAK_FIELDS}
+
+
+def _padded_join(parts, axis, last=None):
+    """``parts`` joined along ``axis``, each padded with NaN along its axis ``last`` (default its
+    last) to the longest."""
+    last = parts[0].ndim - 1 if last is None else last
+    width = max(part.shape[last] for part in parts)
+    padded = [np.pad(part, [(0, width - part.shape[last]) if a == last else (0, 0) for a in range(part.ndim)],
+                     constant_values=np.nan) for part in parts]
+    return np.concatenate(padded, axis=axis)

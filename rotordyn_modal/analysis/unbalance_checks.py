@@ -30,7 +30,7 @@ from ..model import Model
 from ..unbalance_standards import api_analysis_unbalance, api_probe_limit, iso_zone_boundaries, iso_zones
 
 __all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "sensor_groups", "separation_margins",
-           "operating_range", "case_models"]
+           "operating_range", "case_models", "AF_UNKNOWN"]
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -322,9 +322,11 @@ def separation_margins(result, operating, outputs=None, amplitude: str = "peak")
     Returns
     -------
     pandas.DataFrame
-        ``peaks`` columns plus ``verdict``: 'pass' when margin >= required, 'fail' else, 'not
-        evaluated' where the amplification factor is unknown (the amplitude does not fall to
-        peak / sqrt(2) on both sides within the sweep).
+        ``peaks`` columns plus ``verdict``: 'pass' when margin >= required, 'fail' else. Where the
+        amplification factor is unknown (the amplitude does not fall to peak / sqrt(2) on both
+        sides within the sweep), what is known: 'pass' where the margin is at least the largest
+        any AF requires on its side (16 % below, 26 % above: ``required_margin_pct`` is then that
+        largest), else 'not evaluated' (:data:`AF_UNKNOWN` says why in one line).
     """
     import pandas as pd
 
@@ -336,13 +338,23 @@ def separation_margins(result, operating, outputs=None, amplitude: str = "peak")
     table["separation_margin_pct"] = np.where(under, below["separation_margin_pct"],
                                               np.where(over, above["separation_margin_pct"], 0.0))
     # a peak above the range needs the margin of a critical speed above it (API 617)
-    table["required_margin_pct"] = np.where(over, above["required_margin_pct"], below["required_margin_pct"])
+    required = np.where(over, above["required_margin_pct"], below["required_margin_pct"]).astype(float)
+    # an unknown AF: the margin against the largest any AF requires on its side (AF-independent)
+    largest = np.where(over, result.required_margin(np.inf, "above"), result.required_margin(np.inf, "below"))
+    met = np.isnan(required) & (table["separation_margin_pct"].to_numpy(dtype=float) >= largest)
+    table["required_margin_pct"] = np.where(met, largest, required)
     if outputs is not None:
         table = table[table["output"].isin(list(outputs))].reset_index(drop=True)
     required = table["required_margin_pct"].to_numpy(dtype=float)
     table["verdict"] = np.where(np.isnan(required), "not evaluated",
                                 np.where(table["separation_margin_pct"] >= required, "pass", "fail"))
     return pd.DataFrame(table)
+
+
+#: why a peak's separation margin is 'not evaluated' (:func:`separation_margins`), one line
+AF_UNKNOWN = ("AF unknown: the amplitude does not fall to peak/sqrt(2) on both sides of the peak within the "
+              "sweep; its margin passes only where it is at least what any AF requires (16 % below the "
+              "range, 26 % above), else not evaluated")
 
 
 def _derivative(result, rows, w, order):

@@ -22,7 +22,7 @@ from ..assembly import is_large
 from ..linear_system import speed_linear_form
 from ._eigensolve import eigenvalues_of
 
-__all__ = ["cut_maxima", "not_looked_for", "per_source", "unresolved_criticals"]
+__all__ = ["cut_maxima", "exact_peaks", "not_looked_for", "per_source", "unresolved_criticals"]
 
 #: the roots are looked for when the sweep's eigen-solutions cost at most this many
 #: ``N n_states^3`` (about a second of one core)
@@ -181,9 +181,21 @@ _SEARCH_SHARE = 1e-4
 _SEARCH_STEPS = 60
 #: two maxima of one curve closer than this share of their search intervals are one
 _SAME_MAXIMUM = 1e-3
+#: the AF table's searches (its peaks and their half-power points) stop below this share of their
+#: first interval: the AF whatever the swept speeds, to about 1e-8 (a peak's interval is two swept steps)
+_AF_SHARE = 1e-8
+#: ... the golden-section search for a swept peak's maximum below this share (the peak's speed to
+#: about 1e-7 of itself where its interval is a fifth of it; the AF's level moves by its square)
+_AF_PEAK_SHARE = 1e-6
+#: the solves of one peak's searches, about (a golden-section step and a bisection step of each
+#: side are one call for every peak at once)
+_AF_CALLS = 60
+#: a peak whose half-power band is narrower than this share of its search interval (two swept
+#: steps) is unbounded (an undamped mode; the search ends at round-off of the singularity)
+_UNBOUNDED_SHARE = 1e-3
 
 
-def cut_maxima(curve, speeds, amplitude, found, half_power=True):
+def cut_maxima(curve, speeds, amplitude, found, half_power=True, share=_SEARCH_SHARE):
     """The maxima of each curve's amplitude between swept speeds that the line through the swept
     speeds cuts, with their API 684 half-power width, found on the exact response.
 
@@ -211,6 +223,9 @@ def cut_maxima(curve, speeds, amplitude, found, half_power=True):
         :func:`unresolved_criticals`' result.
     half_power : bool
         Whether the half-power widths are wanted (False: NaN, and no bisection).
+    share : float
+        The searches stop below this share of their first interval (the AF table's:
+        :data:`_AF_SHARE`).
 
     Returns
     -------
@@ -227,12 +242,182 @@ def cut_maxima(curve, speeds, amplitude, found, half_power=True):
     if not c["o"].size:
         return np.full((n_out, n_src, 0), np.nan), np.full((n_out, n_src, 0), np.nan + 0j), \
             np.full((n_out, n_src, 0), np.nan)
-    c = _distinct(_refined(curve, c))
+    c = _distinct(_refined(curve, c, share))
     o, j, k = c["o"], c["j"], c["k"]
     c = _taken(c, np.abs(c["value"]) > np.sqrt(2.0) * np.maximum(swept[o, j, k], swept[o, j, k + 1]))
-    widths = (_half_power_widths(curve, c, samples, y) if half_power and c["o"].size
+    widths = (_half_power_widths(curve, c, samples, y, share) if half_power and c["o"].size
               else np.full(c["o"].size, np.nan))
     return _per_curve(c, widths, n_out, n_src)
+
+
+def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=None):
+    """The AF table's peaks on the exact response: each swept peak of each curve (``scipy``'s
+    ``find_peaks`` over each direction of spin, as ``unbalance.amplification_factors``) refined to
+    the maximum of ``|response|`` between its two swept neighbours (golden-section search), and
+    that maximum's half-power points (``|response| = peak / sqrt(2)``, the nearest either side)
+    bisected on the exact response between the last swept speed above that level and the first
+    below it. The searches run to :data:`_AF_PEAK_SHARE` and :data:`_AF_SHARE` of their interval
+    (about 30 steps each, one ``curve`` call a step for every peak at once), so that the amplification
+    factor ``|N_c| / (N2 - N1)`` does not depend on the swept speeds (examples/compressor_rotor.toml,
+    probe-left-y: 25.9 from the 151 report speeds' interpolated band, 32.4 exact).
+
+    Parameters
+    ----------
+    curve : callable
+        ``curve(s, o, j)`` as :func:`cut_maxima`'s.
+    speeds : ndarray, shape (N,) [rad/s]
+        The swept speeds, any order (repeats allowed).
+    amplitude : ndarray, shape (n_out, n_src, N)
+        ``|response|`` at ``speeds``.
+    criticals : list of ndarray, optional
+        Each source's damped critical speeds within the sweep [rad/s] (:func:`unresolved_criticals`'
+        ``critical``): where a peak's band meets one, the response's minimum between them is
+        looked for (:func:`_half_power_brackets`).
+    solve_work : float
+        The work of one solve of ``curve`` at one speed (``n_dof^3``): the peaks are not looked
+        for (None) where the search, :data:`_AF_CALLS` solves a peak, would cost more than
+        :data:`_WORK` (about a second of one core; the AF table then reads the swept speeds).
+
+    Returns
+    -------
+    tuple or None
+        None where not looked for, else:
+    swept, at : ndarray, shape (n_out, n_src, Q) [rad/s]
+        Each curve's swept peaks' speeds and the maxima of the exact response found from them,
+        NaN after a curve's last.
+    value : ndarray, shape (n_out, n_src, Q), complex
+        The response at ``at``.
+    half_power : ndarray, shape (n_out, n_src, Q, 2) [rad/s]
+        The half-power points ``N1, N2`` (signed speeds, in the order of ``|speed|``); NaN on a
+        side where the swept amplitude does not fall below the level within the sweep. A peak
+        whose band is narrower than :data:`_UNBOUNDED_SHARE` of its search interval (an undamped
+        mode: the response is unbounded there; AF above ``500 N_c`` over a swept step) is
+        reported at its swept speed and response, with ``N1 = N2`` that speed (AF infinite).
+    """
+    c, sides = _swept_peaks(np.asarray(speeds, dtype=float), np.asarray(amplitude))
+    if c["o"].size * _AF_CALLS * solve_work > _WORK:
+        return None
+    n_out, n_src = np.shape(amplitude)[:2]
+    if not c["o"].size:
+        empty = np.full((n_out, n_src, 0), np.nan)
+        return empty, empty.copy(), empty + 0j, np.full((n_out, n_src, 0, 2), np.nan)
+    c = _refined(curve, c, _AF_PEAK_SHARE)
+    level = np.abs(c["value"]) / np.sqrt(2.0)
+    inside, outside = _half_power_brackets(curve, c, sides, level, criticals)
+    known = np.isfinite(outside)
+    points = np.full(outside.shape, np.nan)
+    if known.any():
+        o, j = np.tile(c["o"], 2)[known], np.tile(c["j"], 2)[known]
+        points[known] = _level_crossings(curve, o, j, np.tile(level, 2)[known], inside[known], outside[known],
+                                         _AF_SHARE)
+    n = c["o"].size
+    half_power = np.stack([points[:n], points[n:]], axis=1)                 # (C, 2): N1, N2
+    # narrower than the search resolves (no damping): unbounded, read at the swept peak
+    unbounded = np.abs(half_power[:, 1] - half_power[:, 0]) < _UNBOUNDED_SHARE * c["span"]
+    if unbounded.any():
+        c["at"], half_power[unbounded] = np.where(unbounded, c["swept"], c["at"]), c["swept"][unbounded, None]
+        c["value"] = np.where(unbounded, curve(c["swept"], c["o"], c["j"]), c["value"])
+    return _packed(c, half_power, n_out, n_src)
+
+
+def _swept_peaks(speeds, amplitude):
+    """The swept peaks of each curve of ``amplitude`` (n_out, n_src, N) over ``speeds`` (N,)
+    [rad/s], each direction of spin a curve of its own over ``|speed|``: a dict of arrays ``o``,
+    ``j``, ``side``, ``swept`` (the peak's signed speed) and ``a < b`` (its swept neighbours, the
+    search interval), and ``sides``: ``[(sign, x (N',) increasing |speed|, y (n_out, n_src, N'))]``."""
+    from scipy.signal import find_peaks
+
+    sides, c = [], {name: [] for name in ("o", "j", "side", "swept", "a", "b")}
+    for sign, side in ((-1.0, np.flatnonzero(speeds < 0)), (1.0, np.flatnonzero(speeds >= 0))):
+        x, first = np.unique(np.abs(speeds[side]), return_index=True)
+        y = amplitude[:, :, side[first]]
+        sides.append((sign, x, y))
+        for o, j in np.ndindex(*y.shape[:2]):
+            for k in find_peaks(y[o, j])[0]:
+                ends = sorted((sign * x[k - 1], sign * x[k + 1]))
+                for name, item in zip(c, (o, j, len(sides) - 1, sign * x[k], *ends)):
+                    c[name].append(item)
+    return {name: np.array(items, dtype=int if name in ("o", "j", "side") else float)
+            for name, items in c.items()}, sides
+
+
+def _half_power_brackets(curve, c, sides, level, criticals=None):
+    """Each peak's brackets of its half-power points: ``inside`` (at or above ``level``) and
+    ``outside`` (below it), each shape (2C,) [rad/s], first the lower side's then the upper's,
+    NaN where the amplitude does not fall below ``level`` on that side within the sweep.
+
+    Walking out from the peak over the swept speeds: the first one below ``level`` and the one
+    (or the peak) before it. But the response may dip below ``level`` between swept speeds and
+    rise again, towards a neighbouring peak (another of the curve's peaks, or a damped critical
+    speed of ``criticals``, a list per source of speeds [rad/s], that the swept speeds may not
+    resolve): between the peak and each such speed nearer than that swept speed its minimum is
+    searched (:func:`_gap_minima`), and the nearest below ``level`` gives the bracket, so that
+    the crossing is the nearest whatever the swept speeds (examples/fan_on_bearings.toml, 3891
+    rpm beside a peak of AF 101 at 3949 rpm: AF 27.1 at 51 report points, 35.7 at 401, without it)."""
+    n = c["o"].size
+    inside, outside = np.full(2 * n, np.nan), np.full(2 * n, np.nan)
+    gaps = []                                     # (slot, start, end) [|rad/s|], each side's nearest first
+    for m in range(n):
+        sign, x, y = sides[c["side"][m]]
+        u, yy = abs(c["at"][m]), y[c["o"][m], c["j"][m]]
+        marks = _marks(c, m, criticals)
+        for slot, step in ((m, -1), (n + m, 1)):
+            below = np.flatnonzero(((x < u) if step < 0 else (x > u)) & (yy < level[m]))
+            limit = x[0] if step < 0 else x[-1]
+            if below.size:
+                k = below[-1] if step < 0 else below[0]
+                limit = x[k]
+                inside[slot], outside[slot] = sign * (min(x[k + 1], u) if step < 0 else max(x[k - 1], u)), sign * x[k]
+            t = np.sort(marks[(step * (marks - u) > 1e-9 * u) & (step * (limit - marks) > 0)])[::step]
+            gaps += [(slot, a, b) for a, b in zip(np.r_[u, t[:-1]], t)]
+    return _gap_minima(curve, c, sides, level, gaps, inside, outside)
+
+
+def _marks(c, m, criticals):
+    """The speeds [|rad/s|] of peak ``m``'s neighbours: the other peaks of its curve (its
+    direction of spin) and its source's damped critical speeds (``criticals``) of that direction."""
+    same = (c["o"] == c["o"][m]) & (c["j"] == c["j"][m]) & (c["side"] == c["side"][m])
+    marks = [np.abs(c["at"][same])]
+    if criticals is not None and len(criticals[c["j"][m]]):
+        speeds = np.asarray(criticals[c["j"][m]], dtype=float)
+        marks.append(np.abs(speeds[np.sign(speeds) * np.sign(c["swept"][m]) >= 0]))
+    return np.concatenate(marks)
+
+
+def _gap_minima(curve, c, sides, level, gaps, inside, outside):
+    """``inside``, ``outside`` (2C,) of :func:`_half_power_brackets` with, on each side, the nearest
+    of its ``gaps`` (``(slot, start, end)`` [|rad/s|]) where the response's minimum (golden-section
+    search of ``1 / |response|``) is below ``level``: its start inside, that minimum outside."""
+    if not gaps:
+        return inside, outside
+    n = c["o"].size
+    slot = np.array([g[0] for g in gaps])
+    m = slot % n
+    sign = np.array([sides[c["side"][k]][0] for k in m])
+    ends = np.sort(sign[:, None] * np.array([[g[1], g[2]] for g in gaps]), axis=1)
+    found = _refined(lambda s, o, j: 1.0 / np.maximum(np.abs(curve(s, o, j)), 1e-300),
+                     {"o": c["o"][m], "j": c["j"][m], "a": ends[:, 0], "b": ends[:, 1]}, _AF_PEAK_SHARE)
+    deep = 1.0 / np.abs(found["value"]) < level[m]
+    for k in np.flatnonzero(deep)[::-1]:                     # a side's nearest gap last: it stays
+        inside[slot[k]], outside[slot[k]] = sign[k] * gaps[k][1], found["at"][k]
+    return inside, outside
+
+
+def _packed(c, half_power, n_out, n_src):
+    """``swept, at, value, half_power`` of :func:`exact_peaks` (each curve's in candidate order,
+    NaN padded) from its peaks ``c`` and their ``half_power`` (C, 2)."""
+    o, j = c["o"], c["j"]
+    rank = np.zeros(o.size, dtype=int)
+    seen: dict = {}
+    for m in range(o.size):
+        rank[m] = seen.get((o[m], j[m]), 0)
+        seen[(o[m], j[m])] = rank[m] + 1
+    q = int(rank.max()) + 1
+    swept, at = np.full((n_out, n_src, q), np.nan), np.full((n_out, n_src, q), np.nan)
+    value, points = np.full((n_out, n_src, q), np.nan + 0j), np.full((n_out, n_src, q, 2), np.nan)
+    swept[o, j, rank], at[o, j, rank], value[o, j, rank] = c["swept"], c["at"], c["value"]
+    points[o, j, rank] = half_power
+    return swept, at, value, points
 
 
 def per_source(solve):
@@ -374,10 +559,11 @@ def _taken(c, keep):
     return {key: value[keep] for key, value in c.items()}
 
 
-def _refined(curve, c):
+def _refined(curve, c, share=_SEARCH_SHARE):
     """The candidates ``c`` (:func:`_candidates`) with ``at``, the maximum of ``|response|`` in
     each interval ``[a, b]`` by golden-section search (all at once, one ``curve`` call a step,
-    each candidate on its own curve), ``value``, the response there, and ``span``, ``b - a``."""
+    each candidate on its own curve; until ``share`` of ``b - a``), ``value``, the response there,
+    and ``span``, ``b - a``."""
     o, j = c["o"], c["j"]
     a, b = c["a"].astype(float), c["b"].astype(float)
     first = b - a
@@ -385,7 +571,7 @@ def _refined(curve, c):
     c_, d = b - ratio * (b - a), a + ratio * (b - a)
     fc, fd = np.abs(curve(c_, o, j)), np.abs(curve(d, o, j))
     for _ in range(_SEARCH_STEPS):
-        if not np.any(b - a > _SEARCH_SHARE * first):
+        if not np.any(b - a > share * first):
             break
         left = fc > fd                                  # the maximum lies in [a, d]
         b, a = np.where(left, d, b), np.where(left, a, c_)
@@ -412,10 +598,10 @@ def _distinct(c):
     return _taken(c, np.array(chosen, dtype=int))
 
 
-def _half_power_widths(curve, c, samples, y):
+def _half_power_widths(curve, c, samples, y, share=_SEARCH_SHARE):
     """Each candidate's ``N2 - N1`` [rad/s] (shape (C,)): its nearest speeds either side where
-    ``|response| = |value| / sqrt(2)``, bisected (all at once) between its row's sample nearest
-    to it below that level and the next one towards it."""
+    ``|response| = |value| / sqrt(2)``, bisected (all at once, until ``share`` of the first
+    bracket) between its row's sample nearest to it below that level and the next one towards it."""
     level = np.abs(c["value"]) / np.sqrt(2.0)
     lo, hi = [], []                                     # each side's bracket: (outside, inside)
     for r, at, h in zip(c["row"], c["at"], level):
@@ -427,17 +613,24 @@ def _half_power_widths(curve, c, samples, y):
         hi.append((points[above], max(points[above - 1], at)))
     outside = np.array([s for s, _ in lo] + [s for s, _ in hi])
     inside = np.array([s for _, s in lo] + [s for _, s in hi])
-    o, j, level2 = np.tile(c["o"], 2), np.tile(c["j"], 2), np.tile(level, 2)
-    first = np.abs(inside - outside)
-    for _ in range(_SEARCH_STEPS):
-        if not np.any(np.abs(inside - outside) > _SEARCH_SHARE * first):
-            break
-        mid = 0.5 * (inside + outside)
-        over = np.abs(curve(mid, o, j)) >= level2
-        inside, outside = np.where(over, mid, inside), np.where(over, outside, mid)
-    crossing = 0.5 * (inside + outside)
+    crossing = _level_crossings(curve, np.tile(c["o"], 2), np.tile(c["j"], 2), np.tile(level, 2), inside,
+                                outside, share)
     n = len(level)
     return crossing[n:] - crossing[:n]
+
+
+def _level_crossings(curve, o, j, level, inside, outside, share=_SEARCH_SHARE):
+    """Where ``|curve(s, o, j)|`` falls to ``level`` (each shape (K,)) between ``inside`` (at or
+    above it) and ``outside`` (below it) [rad/s], by bisection (all at once, one ``curve`` call a
+    step) until ``share`` of the first bracket: shape (K,) [rad/s]."""
+    first = np.abs(inside - outside)
+    for _ in range(_SEARCH_STEPS):
+        if not np.any(np.abs(inside - outside) > share * first):
+            break
+        mid = 0.5 * (inside + outside)
+        over = np.abs(curve(mid, o, j)) >= level
+        inside, outside = np.where(over, mid, inside), np.where(over, outside, mid)
+    return 0.5 * (inside + outside)
 
 
 def _per_curve(c, widths, n_out, n_src):

@@ -11,7 +11,7 @@ from ..io.outline import read_outline
 from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
                       add_speed_unit, check_extra_output, open_model, save_figure, show_progress, speed_value, use_agg,
-                      undamped_zeros, whole_number, write_table)
+                      undamped_zeros, whole_number, write_table, print_table)
 
 NAME = "modes"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
@@ -52,7 +52,9 @@ model_hz,model_damping,difference_pct,mac; model_mode is the modes table's 'mode
 node k along its axis, or as --mapping FILE.csv (name,node,direction[,sign]) says, as for frf
 --measured; the sensors the file has are named on stderr.
 
-CSV columns: mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part; with a
+CSV columns: mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part (whirl
+forward, backward or none; the terminal table says 'no whirl' for none, as the figures and the
+report do); with a
 flexible rotor then shaft_energy,bearing_energy,mount_energy,pedestal_energy,mesh_energy (those
 the model has: the fractions of the mode's strain energy in the shafts, bearings, mounts, pedestals
 and gear meshes, summing to 1) and kind ('bending' when over half of it is in the shafts, else
@@ -65,6 +67,20 @@ examples:
   rotordyn-modal modes examples/gear_machine.toml --speed 3000 --animate 5 --plot mode5.gif
   rotordyn-modal modes examples/compressor_rotor.toml --speed 3000 --plot-shaft lines.png --modes 1-6
   rotordyn-modal modes examples/gear_machine.toml --measured ema_modes.uff --mapping nodes.csv --out mac.csv"""
+
+def _write_modes(table, args, empty: str):
+    """The modes table: the CSV (--out) with its documented whirl values (forward, backward, none:
+    scripts read them), the terminal's whirl in the words of the figures and the report ('no
+    whirl' for none)."""
+    import argparse
+
+    write_table(table, argparse.Namespace(**{**vars(args), "quiet": True}), empty=empty)
+    if getattr(args, "out", None) != "-" and not args.quiet:
+        shown = table.copy()
+        shown["whirl"] = shown["whirl"].replace({"none": "no whirl"})
+        shown.attrs = dict(table.attrs)
+        print_table(shown, empty)
+
 
 _ANIMATION_ENDINGS = (".gif", ".html", ".mp4")
 #: panels of --plot-shaft in one figure
@@ -140,7 +156,7 @@ def run(args) -> int:
     if measured is not None:
         _write_pairs(model, measured, speed, result, args)
     else:
-        write_table(table, args, empty=f"no oscillating modes at {args.speed} {args.speed_unit}: {counts}")
+        _write_modes(table, args, empty=f"no oscillating modes at {args.speed} {args.speed_unit}: {counts}")
     if counts and len(table) and not args.quiet:
         print(f"{counts} not listed as modes (docs/model-file.md, roots that are not modes)", file=sys.stderr)
     if result.unresolved_roots and not args.quiet:

@@ -29,11 +29,14 @@ NAME:Fx ... NAME:Mz, N and N m) after them: suspensions (each suspension's force
 ground), bearings (each [[bearings]] entry's force on the stator or the ground at its point,
 and each rigidly attached rotor's at its centre of mass), rotors (each rotor's total force
 on the stator) or all (suspensions, bearings and rotors). Peaks get the API 684
-amplification factor and, with --operating-range LO:HI (as report, study and ucs-map take it)
+amplification factor (the peak and its half-power points found on the exact response between
+the swept speeds: the same whatever --speeds, a large model aside) and, with --operating-range LO:HI (as report, study and ucs-map take it)
 or --operating-speed SPEED (a range of one speed), the separation margin and its verdict: a
 peak below the range measured from LO (the minimum operating speed), above it from HI (the
 maximum continuous speed), each as a percentage of that end; a peak inside the range has
-margin 0 and fails where API 684 requires a margin (docs/standards.md).
+margin 0 and fails where API 684 requires a margin; a peak of unknown AF (no half-power
+point within the sweep on one side) passes where its margin is at least what any AF requires
+(16 % below, 26 % above), else is not evaluated (docs/standards.md).
 
 Amplitudes (--amplitude peak|pk-pk|rms, default peak: 0-peak): one choice for the printed
 peaks table, the CSV and the figure. The peaks table (AF and separation margins) holds the
@@ -144,7 +147,7 @@ def add_arguments(parser):
 
 def run(args) -> int:
     from ..analysis.unbalance import api_unbalance_response, unbalance_response
-    from ..analysis.unbalance_checks import separation_margins
+    from ..analysis.unbalance_checks import AF_UNKNOWN, separation_margins
     check_extra_output(args, args.orbits, "--orbits")
     check_ending(args.orbits, (".csv",), "--orbits", stdout=False)
     check_ending(args.checks, (".csv",), "--checks", stdout=False)
@@ -171,6 +174,8 @@ def run(args) -> int:
         print(f"\npeaks (API 684; amplitude {amplitude_label(args.amplitude)}):", file=sys.stderr)
         print_table(in_units(one_convention(peaks, args.amplitude), result, args.units),
                     empty=f"no resonance peak {speeds_text(args)}")
+        if "verdict" in peaks and not np.all(np.isfinite(peaks["amplification_factor"].to_numpy(dtype=float))):
+            print(AF_UNKNOWN, file=sys.stderr)            # what a verdict of an unknown AF rests on
     checks = _write_checks(result, model, mcs, min_speed, args,
                            None if args.operating is None else operating)
     _print_clearances(result, model, mcs, min_speed, args, min_operating)

@@ -406,7 +406,9 @@ def margins_table(margins, units: str = "si", amplitude: str = "pk-pk") -> str:
 #: under the AF table where a peak's AF is unknown (its rows "not evaluated")
 _AF_UNKNOWN = ('<p class="note">* AF unknown: the amplitude does not fall to peak/&radic;2 on both sides of '
                "the peak within the sweep (a half-power point lies beyond its ends or past a neighbouring "
-               "peak), so neither the required margin nor the verdict can be set (docs/standards.md).</p>")
+               "peak). Such a peak passes where its margin is at least the largest any AF requires (16 % "
+               "below the range, 26 % above: its required margin shown); otherwise neither the required "
+               "margin nor the verdict can be set (docs/standards.md).</p>")
 
 
 #: a damping ratio or log decrement below this is the round-off of an undamped mode

@@ -68,6 +68,9 @@ def test_the_estimate_counts_the_reports_page_and_its_cases(tmp_path, monkeypatc
     import matplotlib
 
     matplotlib.use("Agg")
+    import matplotlib.pyplot  # noqa: F401 - loaded (its fonts found, a clean machine's cache made) before the timing
+
+    import rotordyn_modal.plotting  # noqa: F401 - the figures' modules too
     from rotordyn_modal.report import render_html
 
     path = tmp_path / f"chain{rotors}.toml"

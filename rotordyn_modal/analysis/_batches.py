@@ -5,6 +5,7 @@ the GIL), and BLAS held to one thread where its own threads would wait for a cor
 from __future__ import annotations
 
 import os
+import weakref
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -66,6 +67,54 @@ def _forget_pool():
     _POOL = None
 
 
+def stop_pool(wait: float = 0.5) -> bool:
+    """Cancel the batches' parts not started yet, and say whether a worker thread still runs one
+    after ``wait`` [s]: the command line's SIGTERM and SIGHUP call it (``cli.main``). A part
+    started runs compiled code (LAPACK) that no signal stops, and the interpreter's exit joins the
+    pool's threads: minutes of a large sweep's part where the shared machine gives the thread a
+    small share of a core. The pool is forgotten (a later batch starts another).
+
+    Parameters
+    ----------
+    wait : float
+        Seconds [s] a running part is given to end.
+
+    Returns
+    -------
+    bool
+        True where a thread of the pool still runs a part: the caller ends the process without
+        joining it (``os._exit``), its own clean-up done first.
+    """
+    import time
+
+    global _POOL
+    pool, _POOL = _POOL, None
+    if pool is None:
+        return False
+    pool.shutdown(wait=False, cancel_futures=True)
+    end = time.monotonic() + wait
+    while any(future.running() for future in list(_SUBMITTED)) and time.monotonic() < end:
+        time.sleep(0.02)
+    return any(future.running() for future in list(_SUBMITTED))
+
+
+#: the parts given to the pool (futures; a finished batch's are let go): :func:`stop_pool` reads them
+_SUBMITTED = weakref.WeakSet()
+
+
+def _pooled(function, parts) -> list:
+    """``function``'s results on each of ``parts`` (tuples of arguments), in order, run by the pool's
+    threads: ``Executor.map``, its parts kept in :data:`_SUBMITTED` (the parts not started are
+    cancelled where one fails or a signal stops the wait)."""
+    futures = [_POOL.submit(function, *part) for part in parts]
+    _SUBMITTED.update(futures)
+    try:
+        return [future.result() for future in futures]
+    finally:
+        for future in futures:
+            future.cancel()
+
+
 def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     """Apply a batched numpy routine over the first axis of its arrays using a few threads.
 
@@ -92,7 +141,7 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
         if _POOL is None or _POOL._max_workers != threads:
             _POOL = ThreadPoolExecutor(threads, thread_name_prefix="rotordyn-eig")
         with one_blas_thread(item_bytes):
-            results = list(_POOL.map(function, *parts))
+            results = _pooled(function, zip(*parts))
     else:
         with one_blas_thread(item_bytes):
             results = [function(*part) for part in zip(*parts)]

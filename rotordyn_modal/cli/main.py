@@ -123,6 +123,7 @@ def main(argv=None) -> int:
     except Terminated as error:
         with contextlib.suppress(OSError):  # after SIGHUP the terminal may be gone
             print(f"{PROGRAM} {args.command}: terminated by {signal.Signals(error.signum).name}", file=sys.stderr)
+        _exit_without_busy_threads(128 + error.signum)
         return 128 + error.signum
     except KeyboardInterrupt:
         print(f"{PROGRAM} {args.command}: interrupted", file=sys.stderr)
@@ -139,6 +140,21 @@ def _one_line(error) -> str:
     """An error's message on one line: a library's text quoted in it (a CSV parser's
     ``... saw 2\n``) may hold line breaks."""
     return " ".join(line.strip() for line in str(error).splitlines() if line.strip())
+
+
+def _exit_without_busy_threads(code: int):
+    """End the process at once with ``code`` where a thread of the batches' pool still runs a part
+    after SIGTERM or SIGHUP (:func:`..analysis._batches.stop_pool`: the parts not started are
+    cancelled): the exit would join it, a minute or more of a large sweep. Every ``finally`` has
+    run by then (the outputs written whole or not at all); the streams are flushed first. Returns
+    where no such thread runs."""
+    batches = sys.modules.get("rotordyn_modal.analysis._batches")
+    if batches is None or not batches.stop_pool():
+        return
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    os._exit(code)
 
 
 class Terminated(KeyboardInterrupt):

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from ..units import unit_scale
@@ -280,7 +282,7 @@ def _draw_bearings(ax, result, units=(1.0, "N/m")):
     scale, unit = units
     vertical: dict = {}
     drawn: list = []          # [(curve, names)]: curves of equal values drawn once
-    colours = iter(_BEARING_COLOURS * 4)
+    colours = itertools.cycle(_BEARING_COLOURS)         # a colour again past the sixth (60 rotors: 120 bearings)
     for curve in result.curves:
         if curve.constant:
             for axis, value in (("xx", curve.kxx[0]), ("yy", curve.kyy[0])):

@@ -317,6 +317,14 @@ UCS_SHARE = 0.25
 #: 200 (806 coordinates; at 5 speeds 0.13): these take 0.92, 0.92 and 0.38
 CASE_SHARE = 0.3
 SOLVE_SHARE = 0.015
+#: each API unbalance case's work outside its solves (its model made and checked, its forces
+#: :func:`..analysis.forces.all_forces`) [CPU s per coordinate]: measured about 30 ms a case at
+#: 30 coordinates (6-rotor gear chain) and 0.12 s at 86 (20 rotors); work of Python, not of
+#: LAPACK, so counted in seconds, not in eigen-solutions
+CASE_DOF_SECONDS = 1.4e-3
+#: the checks' own searches: the clearance check's and the probe limits' (measured 0.05-0.2 s)
+#: [CPU s] each, where the model has clearances, proximity probes
+CHECK_SECONDS = 0.2
 #: a Level I sweep's values of Q beyond Qa's grid taken by the bound without timing (the
 #: machine's own points below Qa's first grid point, :data:`_DECADE_POINTS` a decade: 300 is 30
 #: decades)
@@ -350,7 +358,8 @@ class ReportWork:
         from ..analysis._cost import duration
 
         shown = sorted((p for p in self.parts if p[1] > 0), key=lambda p: -p[1])
-        inner = "; ".join(f"{SECTIONS[section]}: {duration(seconds)}, {what}" for section, seconds, what in shown)
+        inner = "; ".join(f"{SECTIONS.get(section, PAGE_PART)}: {duration(seconds)}, {what}"
+                          for section, seconds, what in shown)
         return f"about {duration(self.seconds)} of CPU time ({inner})"
 
 
@@ -390,6 +399,35 @@ def _api_case_ratios(model) -> list:
                   for b in model.bearings_of(rotor.name)}
         ratios += [abs(float(rotor.speed_ratio))] * (1 + (len(places) >= 2))
     return ratios
+
+
+#: the name of the estimate's part (``"page"``) that is no section: the page made of the results
+PAGE_PART = "Figures and page"
+#: the page (:func:`.render.render_html`: each figure drawn, laid out and encoded as a PNG) [CPU s
+#: on the machine it was measured on, work of Python, not of LAPACK]: by section, a part of its
+#: own and a part per coordinate (Campbell diagram, mode shapes), per bearing (the UCS map: its
+#: curves) or per sensor (the unbalance response's figure). Measured (``/tmp/est27r/meas.py``) on
+#: the gear chains of 1, 6, 10 and 20 rotors (10, 30, 46 and 86 coordinates, 2 bearings a
+#: rotor, 2 sensors): Campbell 0.7, 8.1, 5.1, 12.3 s; mode shapes 0.16, 1.7, 2.8, 4.7 s; UCS map
+#: 0.54, 2.5, 5.0, 10.2 s; unbalance 0.8, 2.2, 1.4, 2.1 s; the page 2.1, 13.3, 14.2, 29.3 s
+#: against 1.5, 6.3 and 45.7 s of ``collect`` at 6, 10 and 20 rotors
+#: (the static loads' shafts and Level I's figures not measured: a guess of 1 and 2 s)
+RENDER_SECONDS = {"campbell": (0.0, 0.15), "modes": (0.0, 0.055), "ucs": (0.0, 0.26), "unbalance": (0.3, 0.5),
+                  "static": (1.0, 0.0), "level1": (2.0, 0.0)}
+
+
+def _render_seconds(model, inputs) -> tuple:
+    """``(CPU seconds [s], figures)`` of the page of ``inputs.standard``'s sections on ``model``
+    (:data:`RENDER_SECONDS`; the shafts' figure of the static loads where a rotor is flexible,
+    the UCS map where there are bearings, the unbalance figure where there are sensors)."""
+    sections = STANDARDS[inputs.standard]
+    sizes = {"campbell": model.dofs.n, "modes": model.dofs.n, "ucs": len(model.bearings),
+             "unbalance": len(model.sensors), "static": 0, "level1": 0}
+    drawn = {"campbell": True, "modes": True, "ucs": bool(model.bearings), "unbalance": bool(model.sensors),
+             "static": any(r.flexible is not None for r in model.rotors), "level1": inputs.level1 is not None}
+    shown = [s for s in sections if s in RENDER_SECONDS and drawn[s]]
+    seconds = sum(RENDER_SECONDS[s][0] + RENDER_SECONDS[s][1] * sizes[s] for s in shown)
+    return float(seconds), len(shown)
 
 
 #: the static loads (one solve of the stiffness at the MCS, the shafts' stresses), as a share of
@@ -577,7 +615,10 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     - the Level I sweep (:func:`..analysis.level1.sweep_solutions`, and :data:`LEVEL1_FOLLOWING`
       a value of Q).
 
-    The checks (probe limits, clearances, ISO zones) read the response and solve nothing.
+    Counted in CPU seconds measured on this package's test machine, not in eigen-solutions (work
+    of Python): each unbalance case's set-up and the checks' searches (:func:`_case_seconds`),
+    and the page the ``report`` command makes of the results, its figures drawn
+    (:func:`_render_seconds`, the part ``"page"``).
 
     Parameters
     ----------
@@ -586,7 +627,8 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     quick : bool
         A pessimistic bound [s] from the sizes alone instead (no timing, no matrices: every mode
         crossing every order line, :data:`.._cost._PESSIMISTIC` per cubed state, the Level I
-        sweep with :data:`_LEVEL1_EXTRA` more values, every mode a bracket of every source).
+        sweep with :data:`_LEVEL1_EXTRA` more values, every mode a bracket of every source, twice
+        the seconds of the page and of the cases' set-up).
 
     Returns
     -------
@@ -612,8 +654,9 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
         solutions = (sum(shares.values()) + ucs + search + crossings / n_states
                      + (sweep_solutions(grid) if level1 else 0))
         return (_work._quick_bound(model, speeds, (1,), True, True, len(speeds))
-                + solutions * _cost._PESSIMISTIC * float(n_states) ** 3)
-    campbell = _work.estimate(model, speeds, (1,), critical=True, numbers=True)
+                + solutions * _cost._PESSIMISTIC * float(n_states) ** 3
+                + 2 * (_render_seconds(model, inputs)[0] + _case_seconds(model, cases)))
+    campbell = _report_numbers(_work.estimate(model, speeds, (1,), critical=True, numbers=True))
     eig = _work.eig_seconds(campbell.n_states)
     round_off = ROUND_OFF_SECONDS * campbell.crossings * float(campbell.n_states) ** 2
     parts = [("static", shares["static"] * eig, "1 solve at the MCS"),
@@ -630,7 +673,7 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     if "unbalance" in counts:
         what = "API unbalance cases" if inputs.standard != "iso" else "rotors unbalanced"
         search, brackets = _peak_search(model, inputs, campbell.n_states)
-        seconds = (shares["unbalance"] + search * _cost.EIGVALS_SHARE) * eig
+        seconds = (shares["unbalance"] + search * _cost.EIGVALS_SHARE) * eig + _case_seconds(model, cases)
         if search:
             call, per_speed = _timed_response(model, inputs.mcs)
             seconds += cases * PEAK_CALLS * call + PEAK_SPEEDS * brackets * per_speed
@@ -640,7 +683,35 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     if level1:
         count = sweep_size(model, inputs.mcs, level1["stations"], level1["qa"], shares=level1.get("shares"))
         parts.append(("level1", (sweep_solutions(count) + LEVEL1_FOLLOWING * count) * eig, f"{count:,} values of Q"))
+    page, figures = _render_seconds(model, inputs)
+    parts.append(("page", page, f"{figures} figure sections drawn"))
     return ReportWork(campbell.n_dof, campbell.n_states, tuple(parts))
+
+
+def _case_seconds(model, cases) -> float:
+    """CPU seconds [s] of the unbalance response's work outside its solves: each of ``cases``'
+    set-up (:data:`CASE_DOF_SECONDS` per coordinate) and the checks' searches
+    (:data:`CHECK_SECONDS` for the clearances, the same for the proximity probes)."""
+    probes = any(s.measure == "relative" for s in model.sensors)
+    return cases * CASE_DOF_SECONDS * model.dofs.n + CHECK_SECONDS * (bool(model.clearances) + probes)
+
+
+#: the coordinates from which the report's critical speeds' mode numbers cost what
+#: :func:`..analysis._work.estimate` counts (a share ``_NUMBERS_SHARE`` = 0.5 of the crossings
+#: solved, measured 0.53 at 406 coordinates on 11 speeds); below, the share measured on the
+#: report's 21 speeds falls about as the square root of the coordinates: the mode numbers' CPU
+#: against the count 0.43 at 46 coordinates, 0.65 at 86, 0.74 at 126 (gear chains of 10, 20, 30
+#: rotors; the 30-rotor Campbell part had been counted 53 s against 39 s)
+NUMBERS_FULL_DOF = 250
+
+
+def _report_numbers(work):
+    """``work`` (:func:`..analysis._work.estimate` of the report's sweep) with its mode numbers'
+    part scaled by ``sqrt(n_dof / NUMBERS_FULL_DOF)`` (at most 1): see :data:`NUMBERS_FULL_DOF`."""
+    import dataclasses
+
+    share = min(1.0, float(np.sqrt(work.n_dof / NUMBERS_FULL_DOF)))
+    return dataclasses.replace(work, numbers_seconds=share * work.numbers_seconds)
 
 
 #: stiffness values solved to refine one crossing of a speed-dependent bearing's curve with a

@@ -339,8 +339,9 @@ def _rotor_whirl_ratios(model, shapes, speed) -> np.ndarray:
 
 def _refine_inexact(form, speed, values, shapes, stacklevel=4) -> np.ndarray | None:
     """The roots ``values`` (m,) with shapes (m, n) at ``speed`` [rad/s] whose double-precision
-    round-off (:func:`._eigensolve.pencil_round_off`) exceeds :data:`._eigensolve.INEXACT_LEVEL`:
-    pairs closer than it polished in place (:func:`._eigensolve.refined_pairs`), the rest warned of;
+    round-off (:func:`._eigensolve.pencil_round_off`) exceeds :data:`._eigensolve.POLISH_LEVEL`:
+    polished in place (:func:`._eigensolve.refined_pairs`), those left over
+    :data:`._eigensolve.INEXACT_LEVEL` warned of;
     returns the error left (m,) (a model with Maxwell branches: on its rational pencil)."""
     bound, damping, stiffness, branches = _eigensolve.round_off_at(form, speed, values, shapes)
     bound = _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound, branches=branches)

@@ -62,7 +62,9 @@ def test_campbell_labels_whirl_as_modes_does(fast_branch):
             compared += 1
             flipped += abs(result.whirl_ratios[k, m]) > 1e-3 and label == "none"
     assert compared == 6 * len(SPEEDS_RPM)
-    assert flipped >= 7            # the rule decided: ratios above 1e-3 that are round-off
+    # the rule decided: ratios above 1e-3 within the solve's round-off (mode 1 at 500-3000 rpm; at
+    # rest its polished shape's ratio is 1e-15, where the unpolished one read -2e-3)
+    assert flipped >= 6
 
 
 def test_stability_labels_whirl_as_modes_does(fast_branch):

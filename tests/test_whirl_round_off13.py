@@ -82,8 +82,8 @@ def test_stability_labels_whirl_as_modes_does(fast_branch):
 
 
 def test_the_figure_draws_no_whirl_change_that_is_round_off(fast_branch):
-    """Mode 1's ratio goes from -2e-3 at rest to +2e-3 at 500 rpm, both within its round-off
-    (3e-2): no whirl throughout, so `whirl_changes` has none for it (main had backward ->
+    """Mode 1's ratio went from -2e-3 at rest (1e-15 since the solve's roots are polished past
+    1e-9) to +2e-3 at 500 rpm, both within its round-off (3e-2): no whirl throughout, so `whirl_changes` has none for it (main had backward ->
     none -> forward inside the first step) and the figure draws it in one style, its legend
     saying that 'no whirl' includes the ratios within round-off."""
     _, result = fast_branch

@@ -114,7 +114,7 @@ def test_the_table_prints_a_whirl_ratio_within_its_round_off_as_0(tmp_path):
     level = table.attrs["round_off"]["whirl_ratio"]
     ratio = table["whirl_ratio"].to_numpy(dtype=float)
     by_round_off = (table["whirl"].to_numpy() == "none") & (np.abs(ratio) > 1e-3)
-    assert by_round_off.sum() >= 7
+    assert by_round_off.sum() >= 6           # mode 1 at 500-3000 rpm (at rest its polished ratio is 1e-15)
     assert (np.abs(ratio[by_round_off]) <= level[by_round_off]).all()
     whirling = table["whirl"].to_numpy() != "none"
     assert (np.abs(ratio[whirling]) > level[whirling]).all()

@@ -60,7 +60,7 @@ _EXACT_STEPS = 10
 def _exact_crossings(stack, brackets, roots, lam, phi, sure):
     """The crossings ``roots`` (P,) [rad/s] with eigenvalues ``lam`` (P,) and shapes ``phi`` (P, n)
     of a stack whose sweep had roots double precision leaves further off than
-    :data:`._eigensolve.INEXACT_LEVEL` (``stack.inexact``, set by :func:`.campbell._refine_inexact`),
+    :data:`._eigensolve.POLISH_LEVEL` (``stack.inexact``, set by :func:`.campbell._refine_inexact`),
     solved again on the polished roots: where the tracked root at the crossing is itself inexact,
     secant steps on ``g(Omega) = Im lam(Omega) - slope |Omega|`` with ``lam`` the polished root
     (:func:`_exact_root_at`) until a step is below ``_STEP_TOLERANCE``; the pencil iteration above
@@ -109,7 +109,7 @@ def _exact_root_at(stack, v, speed, near, sign, always=False):
     """The root of variant ``v`` at ``speed`` [rad/s] nearest ``near`` among those of whirl sign
     ``sign`` (any where none is), with its unit shape, after the full solve's polish
     (:func:`._eigensolve.refined_pairs`); None where that root is exact in double (its round-off
-    at most :data:`._eigensolve.INEXACT_LEVEL`) unless ``always``."""
+    at most :data:`._eigensolve.POLISH_LEVEL`) unless ``always``."""
     from . import _eigensolve
 
     form = stack.forms[v]
@@ -120,7 +120,7 @@ def _exact_root_at(stack, v, speed, near, sign, always=False):
     close = np.flatnonzero(np.abs(values - near) <= reach)
     if not len(close):
         close = np.array([int(np.argmin(np.abs(values - near)))])
-    if not always and np.all(bound[close] <= _eigensolve.INEXACT_LEVEL):
+    if not always and np.all(bound[close] <= _eigensolve.POLISH_LEVEL):
         return None
     _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound, stack.whirl, v,
                               branches=branches)

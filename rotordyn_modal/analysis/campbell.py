@@ -1261,7 +1261,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
 
 def _refine_inexact(stack, speeds, values, shapes):
     """The roots ``values`` (V, N, m) with ``shapes`` (V, N, m, n) at ``speeds`` [rad/s] that
-    double precision leaves further off than :data:`._eigensolve.INEXACT_LEVEL`
+    double precision leaves further off than :data:`._eigensolve.POLISH_LEVEL`
     (:func:`._eigensolve.pencil_round_off`): pairs closer than that polished in place
     (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model (models with
     Maxwell branches on their rational pencil). Returns whether any root needed the polish."""
@@ -1280,7 +1280,7 @@ def _refine_inexact(stack, speeds, values, shapes):
             # every speed's estimate in one batched product; the polish only where a root needs it
             bound[part] = _eigensolve.pencil_round_off(values[v, part], shapes[v, part], form.matrices.M,
                                                        damping, stiffness, branches=branches)
-            inexact = (bound[part] > _eigensolve.INEXACT_LEVEL) & (values[v, part].imag > 0)
+            inexact = (bound[part] > _eigensolve.POLISH_LEVEL) & (values[v, part].imag > 0)
             needed |= bool(inexact.any())
             for j in np.flatnonzero(inexact.any(axis=-1)):
                 i = part.start + j

@@ -339,8 +339,9 @@ def _rotor_whirl_ratios(model, shapes, speed) -> np.ndarray:
 
 def _refine_inexact(form, speed, values, shapes, stacklevel=4) -> np.ndarray | None:
     """The roots ``values`` (m,) with shapes (m, n) at ``speed`` [rad/s] whose double-precision
-    round-off (:func:`._eigensolve.pencil_round_off`) exceeds :data:`._eigensolve.INEXACT_LEVEL`:
-    pairs closer than it polished in place (:func:`._eigensolve.refined_pairs`), the rest warned of;
+    round-off (:func:`._eigensolve.pencil_round_off`) exceeds :data:`._eigensolve.POLISH_LEVEL`:
+    polished in place (:func:`._eigensolve.refined_pairs`), those left over
+    :data:`._eigensolve.INEXACT_LEVEL` warned of;
     returns the error left (m,) (a model with Maxwell branches: on its rational pencil)."""
     bound, damping, stiffness, branches = _eigensolve.round_off_at(form, speed, values, shapes)
     bound = _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound, branches=branches)
@@ -377,12 +378,14 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     index = _unique_indices(index, values, upper)
     forms = _whirl.whirl_forms(model)
     shapes = vectors[:n, index].T
+    # the whirl's round-off is the solve's, as the sweeps take it (_eigensolve.solve_batch): from
+    # the roots before the polish moves them off their own copies in ``refined``
+    ratio_noise = _roots.whirl_round_off(upper, refined, noise, _eigensolve.REPEATED_TOLERANCE * np.abs(upper).max(),
+                                         np.broadcast_to(own, values.shape)[index])
     _refine_inexact(form, speed, upper, shapes)
     shapes = _eigensolve.resolve_repeated(upper[None], shapes[None], forms)[0]
     shapes = _normalise(shapes, form.matrices.M)
     oscillatory = is_oscillating(upper)
-    ratio_noise = _roots.whirl_round_off(upper, refined, noise, _eigensolve.REPEATED_TOLERANCE * np.abs(upper).max(),
-                                         np.broadcast_to(own, values.shape)[index])
     ratios = np.where(oscillatory, _whirl.whirl_ratios(shapes[None], forms, np.array([speed]))[0], 0.0)
     rotor_ratios = _rotor_whirl_ratios(model, shapes, speed) * oscillatory[:, None]
     freq, zeta, log_dec = modal_quantities(upper)

@@ -711,7 +711,7 @@ def _largest_real_part(form, speed, clip: bool = True, near=None) -> float:
 
 def _polished_largest_real_part(stack, speed, clip: bool = True, near=None) -> float:
     """:func:`_largest_real_part` of the model of a one-model ``stack`` some of whose roots double
-    precision leaves further off than :data:`._eigensolve.INEXACT_LEVEL`: of the roots the sweep
+    precision leaves further off than :data:`._eigensolve.POLISH_LEVEL`: of the roots the sweep
     keeps at one speed, with their shapes, polished as the sweep's (:func:`.campbell._refine_inexact`;
     the sweep has warned of what is left); with ``near``, that of the polished root nearest it."""
     import warnings

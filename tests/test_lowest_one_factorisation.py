@@ -58,16 +58,19 @@ def sweep():
 
 
 def test_the_carried_over_roots_take_one_factorisation(sweep):
-    """Every speed but the solved anchors (every eighth and the last) is carried over, the anchors
-    between the solved ones included, and at most 1 % of their 2,275 roots go on to Newton's
-    iteration after the chord step (measured: 4, at anchors carried four speeds; with the nearest
-    node's shape as the start vector 327, 14 %): Newton's iteration serves the 26 solved anchors'
-    13 roots and those few."""
+    """Every speed but the solved anchors is carried over, the anchors between the solved ones
+    included, and at most 1 % of their roots go on to Newton's iteration after the chord step
+    (measured: 7 of 2,405; with the nearest node's shape as the start vector 327 of 2,275, 14 %):
+    Newton's iteration serves the solved anchors' 13 roots and those few. The solved anchors are
+    the first speed, the last, and no more than 16 (every sixteenth speed, and those halfway where
+    the Gershgorin discs do not show the count, ``_lowest._solved_levels``; before, every eighth:
+    26)."""
     _, _, chord, iterated, caught = sweep
     assert not [message for message in caught if "solved whole" in message]
-    solved = set(range(0, 201, 8)) | {200}
     carried = np.concatenate(chord)
-    assert sorted(carried.tolist()) == sorted(set(range(201)) - solved)
+    assert len(set(carried.tolist())) == len(carried)                    # each speed carried once
+    solved = set(range(201)) - set(carried.tolist())
+    assert {0, 200} <= solved and len(solved) <= 16
     newton_speeds = np.concatenate(iterated)
     assert set(newton_speeds.tolist()) >= solved
     assert np.sum(np.isin(newton_speeds, list(solved))) == 13 * len(solved)

@@ -289,14 +289,14 @@ def _swept(pencils, basis, want, count):
     solves its projected pencil (:func:`._lowest_starts._projected_starts`) and is refined and
     checked as an anchor."""
     speeds = len(pencils.speeds)
-    grid = _anchors(speeds)
-    solved = np.unique(np.append(grid[::_SOLVED], grid[-1]))
-    levels = [(np.setdiff1d(grid, solved), solved), (np.setdiff1d(np.arange(speeds), grid), grid)]
-    expansions = _Expansions(pencils, basis, solved, want, levels)
     values = np.empty((speeds, want), complex)
     shapes = np.empty((speeds, want, pencils.M.shape[0]), complex)
     ok, unmissed = np.zeros(speeds, bool), np.zeros(speeds, bool)
-    _refine_into(_refined, pencils, expansions.starts, expansions.vectors, solved, (values, shapes, ok))
+    solved, levels, eigen, refined = _solved_levels(pencils, basis, want, count, (values, shapes, ok))
+    expansions = _Expansions(pencils, basis, solved, want, levels, eigen)
+    places = np.nonzero(~np.isin(solved, refined))[0]
+    _refine_into(_refined, pencils, expansions.starts[places], expansions.vectors[places], solved[places],
+                 (values, shapes, ok))
     unmissed[solved] = _unmissed(expansions.starts, values[solved], count)
     moved = np.max(np.abs(expansions.starts - values[solved]), axis=1)      # the projection's error there
     # the anchors between the solved ones are carried over like the other speeds where the solved
@@ -326,6 +326,59 @@ def _swept(pencils, basis, want, count):
             unmissed[rows] = _unmissed(again, values[rows], count)
             del vectors
     return values, shapes, ok, unmissed
+
+
+#: every this many anchors solve their projected pencils whole where the Gershgorin discs allow
+#: (:func:`_solved_levels`; measured on ``compressor_example``, CPU against every ``_SOLVED``-th in
+#: one process, median of 8-10 pairs: 401 speeds 7-9 % less, no middle anchor solved; 201 speeds
+#: 3 % less, 2 of 12 solved; 101 speeds the same (0.99), every middle anchor solved)
+_SPARSE_SOLVED = 4
+#: the pilot's decompositions are kept for the sweep up to this much memory [bytes]; beyond, every
+#: ``_SOLVED``-th anchor is solved
+_PILOT_BYTES = 64 * 2**20
+
+
+def _solved_levels(pencils, basis, want, count, out):
+    """The solved anchors (A,) of :func:`_swept`, its ``levels`` (each a part of the other speeds and
+    the refined speeds its nodes are taken from, in the order they are refined), the anchors'
+    ``eig`` already made (a dict for :class:`._lowest_starts._Expansions`, or None) and the anchors
+    already refined into ``out`` = (values (S, k), shapes (S, k, n), ok (S,)).
+
+    Every ``_SOLVED``-th anchor is solved, the other anchors are carried from them and the remaining
+    speeds from every anchor (``docs/theory.md`` section 17). Where a sweep holds enough anchors, a
+    pilot first solves every ``_SPARSE_SOLVED``-th (twice as far apart) and asks whether the Gershgorin
+    discs of the nearer one's eigenbasis show the count (:func:`_certified`) at each
+    ``_SOLVED``-th anchor between them (the speeds farthest from them), with the roots there
+    predicted (the anchor's refined roots plus their second-order changes, :class:`._lowest_starts._Expansions`).
+    Those where the discs do not are solved as well; the others are carried in levels of halved
+    spacing, each level's nodes the speeds refined before it, the remaining speeds last. The
+    pilot's ``eig`` and refined roots are kept: at most its ``_decomposed`` products are made twice.
+    """
+    speeds = len(pencils.speeds)
+    grid = _anchors(speeds)
+    rest = (np.setdiff1d(np.arange(speeds), grid), grid)
+    solved = np.unique(np.append(grid[::_SOLVED], grid[-1]))
+    sparse = np.unique(np.append(grid[::_SPARSE_SOLVED], grid[-1]))
+    middles = np.setdiff1d(solved, sparse)
+    kept = 16 * len(sparse) * 3 * (2 * basis.shape[1] + len(pencils.rows)) ** 2
+    if len(sparse) < 2 * _NODES or not len(middles) or kept > _PILOT_BYTES:
+        return solved, [(np.setdiff1d(grid, solved), solved), rest], None, np.zeros(0, int)
+    eigen = {}
+    pilot = _Expansions(pencils, basis, sparse, want, [(middles, sparse)], eigen, nodes=False)
+    values, shapes, ok = out
+    _refine_into(_refined, pencils, pilot.starts, pilot.vectors, sparse, out)
+    moved = np.max(np.abs(pilot.starts - values[sparse]), axis=1)
+    predicted = np.full(values.shape, np.nan + 0j)
+    predicted[middles] = values[sparse[pilot.near]] + pilot.changes
+    with np.errstate(invalid="ignore"):
+        shown = _certified(pilot, np.arange(len(middles)), predicted, moved, count) & ok[sparse[pilot.near]]
+    solved = np.union1d(sparse, middles[~shown])
+    levels, done, step = [], solved, _SPARSE_SOLVED // 2
+    while step >= 1:
+        finer = np.union1d(np.append(grid[::step], grid[-1]), solved)
+        levels.append((np.setdiff1d(finer, done), done))
+        done, step = finer, step // 2
+    return solved, levels + [rest], eigen, sparse
 
 
 #: the starts' vectors of the speeds between anchors made at once (:func:`_swept`) [bytes]

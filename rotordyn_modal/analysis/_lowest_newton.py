@@ -63,7 +63,7 @@ def _continued(pencils, guesses, vectors, rows):
     chord = pencils.newton_chord(index, lam, x, x.conj(), _STEP)
     if chord is None:
         return _refined(pencils, guesses, vectors, rows)
-    lam, x, first, second = chord
+    lam, x, first, second, slope = chord
     with np.errstate(divide="ignore", invalid="ignore"):
         done = np.isfinite(lam) & ((second <= _STEP) | ((second <= _ASYMPTOTIC) & (second ** 2 / first <= _LEFT)))
     ok = done.copy()
@@ -72,7 +72,8 @@ def _continued(pencils, guesses, vectors, rows):
         start = np.where(np.isfinite(lam[rest]), lam[rest], guesses.reshape(-1)[rest])
         again = np.where(np.isfinite(lam[rest])[:, None], x[rest], vectors.reshape(-1, n)[rest])
         lam[rest], x[rest], ok[rest] = _newton(pencils, index[rest], start, again)
-    lam, x = _certain(pencils, index, lam, x, ok)
+        slope[rest] = np.nan
+    lam, x = _certain(pencils, index, lam, x, ok, slope)
     return lam.reshape(S, k), _vectors.unit_rows(x.reshape(S, k, n)), ok.reshape(S, k).all(axis=1)
 
 
@@ -104,12 +105,14 @@ def _newton(pencils, index, lam, x):
     return lam, x, done & np.isfinite(lam)
 
 
-def _certain(pencils, index, lam, x, ok):
+def _certain(pencils, index, lam, x, ok, slope=None):
     """The converged roots (``ok``) whose double-precision round-off exceeds ``_CERTAIN``
     polished (:func:`_polished`): Newton's steps on the double pencil cannot show its round-off
-    (they converge to a nearby pencil's root). Returns ``lam`` (P,), ``x`` (P, n)."""
+    (they converge to a nearby pencil's root). ``slope`` (P,): :func:`_roundoff`'s. Returns
+    ``lam`` (P,), ``x`` (P, n)."""
     polish = np.nonzero(ok)[0]
-    polish = polish[_roundoff(pencils, index[polish], lam[polish], x[polish]) > _CERTAIN]
+    known = None if slope is None else slope[polish]
+    polish = polish[_roundoff(pencils, index[polish], lam[polish], x[polish], known) > _CERTAIN]
     if len(polish):
         lam[polish], x[polish] = _polished(pencils, index[polish], lam[polish], x[polish])
     return lam, x
@@ -141,13 +144,15 @@ _EXTENDED = np.longdouble
 _POLISH_STEPS = 2
 
 
-def _roundoff(pencils, index, lam, x):
+def _roundoff(pencils, index, lam, x, slope=None):
     """The relative error (P,) that double precision can leave in roots ``lam`` (P,) with shapes
     ``x`` (P, n): ``eps |x|^T (|s|^2 |M| + |s| |C + Omega G + C_b| + |K + K_b|) |x| / (|s| |x^H Q'(s) x|)``,
     the first-order change of the root under a change of each entry of the pencil by ``eps`` of
     itself, for the root's own shape (a low mode's smooth shape against stiff elements: the
     products cancel to a small part of their terms). Measured against extended-precision roots, the
-    error of Newton's root on the double pencil was 0.01 to 0.35 times it."""
+    error of Newton's root on the double pencil was 0.01 to 0.35 times it. ``slope`` (P,), where
+    finite: ``|x^H Q'(s) x| / |x|^2`` already known (the chord's, ``_Pencils.newton_chord``), not
+    formed again."""
     s, a = np.abs(lam), np.abs(x)
     speeds = np.abs(pencils.speeds[index])
     magnitudes = pencils.__dict__.get("_magnitudes")
@@ -162,7 +167,11 @@ def _roundoff(pencils, index, lam, x):
         np.add.at(terms, (slice(None), pencils.rows), (s * np.abs(pencils.cb[index]) + np.abs(pencils.kb[index]))
                   * a[:, pencils.cols])
     terms = terms + pencils.more_terms(index, lam, a, magnitude=True)
-    derivative = np.abs(np.einsum("pi,pi->p", x.conj(), pencils.derivative_times(index, lam, x)))
+    derivative = (np.nan if slope is None else slope) * np.einsum("pi,pi->p", a, a)      # |x^H Q'(s) x|
+    todo = np.nonzero(~np.isfinite(derivative))[0]
+    if len(todo):
+        derivative[todo] = np.abs(np.einsum("pi,pi->p", x[todo].conj(),
+                                            pencils.derivative_times(index[todo], lam[todo], x[todo])))
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.finfo(float).eps * np.einsum("pi,pi->p", a, terms) / (np.abs(lam) * derivative)
 

@@ -29,6 +29,10 @@ __all__: list[str] = []
 #: against 120 ms)
 _DENSE_DOF = 36
 
+#: the Newton step's ``|x^H Q'(s) x| / |x|^2`` stands for the root's where the final vector's direction
+#: is within this of the start's (``1 - cos^2`` of their angle: ``_Pencils.newton_chord``'s ``slope``)
+_ALIGNED = 1e-8
+
 #: a banded LU is taken where the band storage (2 kl + ku + 1 rows) is at most this part of n,
 #: with at most ``_BORDER`` coordinates set apart as a border (a casing's six motions, mounts)
 _BAND_SHARE, _BORDER = 2, 12
@@ -168,6 +172,10 @@ class _Pencils:
         first, second : ndarray, shape (P,)
             The two steps' lengths relative to ``|s_2|`` (nan where a pencil was singular); where no
             chord step was taken, ``s_2 = s_1``, ``x_2 = x_1`` and ``second`` is 0.
+        slope : ndarray, shape (P,)
+            ``|x_0^H Q'(s_0) x_0| / |x_0|^2`` from the Newton step's own product, where ``x_2`` is
+            within ``_ALIGNED`` of ``x_0``'s direction (``|x_2^H Q'(s_2) x_2| / |x_2|^2`` to about that,
+            for the round-off estimate, ``_lowest_newton._roundoff``); nan elsewhere.
         """
         band = self.band
         n = self.M.shape[0]
@@ -185,14 +193,15 @@ class _Pencils:
         n = self.M.shape[0]
         width = 2 * band.lower + band.upper + 1
         lam_out, x_out = np.empty(len(lam), complex), np.empty(x.shape, complex)
-        first, second = np.empty(len(lam)), np.empty(len(lam))
+        first, second, slope = np.empty(len(lam)), np.empty(len(lam)), np.empty(len(lam))
         for part in _batches.chunk_slices(len(lam), 16 * n * (width + 4), budget=2**24):
             rows, s0, x0, cc = index[part], lam[part], x[part], c[part]
             ab, _ = self._band_storage(rows, s0)
             pivots = np.empty((len(s0), n), np.int32)
             factored = _factored(band.lower, band.upper, ab, pivots)
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-                u = self._chord_solve(ab, pivots, factored, self.derivative_times(rows, s0, x0))
+                derivative = self.derivative_times(rows, s0, x0)
+                u = self._chord_solve(ab, pivots, factored, derivative)
                 cu = np.einsum("pi,pi->p", cc, u)
                 step = np.einsum("pi,pi->p", cc, x0) / cu
                 s1, x1 = s0 - step, u / cu[:, None]
@@ -207,7 +216,11 @@ class _Pencils:
                 lam_out[part], x_out[part] = s2, x2
                 first[part], second[part] = np.abs(step) / np.abs(s2), 0.0
                 second[part][chord] = np.abs(ds) / np.abs(s2[chord])
-        return lam_out, x_out, first, second
+                length = np.einsum("pi,pi->p", x0.conj(), x0).real
+                aligned = np.abs(np.einsum("pi,pi->p", x0.conj(), x2)) ** 2 \
+                    >= (1 - _ALIGNED) * length * np.einsum("pi,pi->p", x2.conj(), x2).real
+                slope[part] = np.where(aligned, np.abs(np.einsum("pi,pi->p", x0.conj(), derivative)) / length, np.nan)
+        return lam_out, x_out, first, second, slope
 
     def _chord_solve(self, ab, pivots, factored, rhs, which=None):
         """``Q^-1 rhs`` (P, n) from the banded LU factors ``ab`` (P, size, width) and ``pivots``

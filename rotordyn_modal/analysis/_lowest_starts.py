@@ -310,6 +310,14 @@ class _Expansions:
     levels : list of (ndarray of int, ndarray of int)
         The other speeds, in the order they are refined, each part with the refined speeds its
         nodes are taken from (ascending).
+    eigen : dict, optional
+        The anchors' ``eig`` (roots (2m,), eigenvectors (2m, 2m)) by speed: those found there are
+        taken, not solved again, and those solved here are added (the state matrices are the same
+        bits where ``solved[0]`` is: :func:`_state_matrices` is relative to it), with their products
+        (:func:`_decomposition`).
+    nodes : bool
+        Make the roots' changes at the nodes (``node_changes``); without, only the discs and the
+        changes at the speeds (:func:`._lowest._solved_levels`' pilot).
 
     Attributes
     ----------
@@ -321,8 +329,9 @@ class _Expansions:
         The refined speeds around each speed and the Lagrange weights of the speed among theirs.
     """
 
-    def __init__(self, pencils, basis, solved, want, levels):
+    def __init__(self, pencils, basis, solved, want, levels, eigen=None, nodes=True):
         speeds = pencils.speeds
+        self.eigen, self.at_nodes = eigen, nodes
         n, m = basis.shape
         count, two = len(solved), 2 * basis.shape[1]
         self.solved, self.speeds = solved, speeds
@@ -378,7 +387,7 @@ class _Expansions:
         # a part of the anchors at a time: their state matrices, eigenvectors, inverses and products
         for part in _batches.chunk_slices(len(solved), 16 * 8 * (2 * m) ** 2, budget=_batches._PART_BYTES):
             A = _state_matrices(pencils, solved[part], solved[0], D0, K0, Gr, left, right)
-            lam, V = _batches._threaded(np.linalg.eig, A, item_bytes=48 * (2 * m) ** 2)
+            lam, V = self._eig(A, solved[part])
             order = _lowest_order(lam, want)
             self.starts[part] = np.take_along_axis(lam, order, axis=1)
             shapes = np.take_along_axis(V, order[:, None, :], axis=2)[:, :m]           # (P, m, want)
@@ -387,34 +396,45 @@ class _Expansions:
             work = functools.partial(self._decomposed, pencils, basis, Gr, entries)
             _batches._threaded(work, np.arange(part.start, part.stop), A, lam, V, order, item_bytes=80 * (2 * m) ** 2)
 
+    def _eig(self, A, at):
+        """``eig`` of the state matrices ``A`` (P, 2m, 2m) of the anchors ``at`` (P,): roots (P, 2m)
+        and eigenvectors (P, 2m, 2m), those in ``eigen`` taken from it, the others solved (and kept
+        there)."""
+        known = np.array([self.eigen is not None and int(a) in self.eigen for a in at], bool)
+        if not known.any():
+            lam, V = _batches._threaded(np.linalg.eig, A, item_bytes=48 * A.shape[-1] ** 2)
+        else:
+            lam, V = np.empty(A.shape[:2], complex), np.empty(A.shape, complex)
+            for place in np.nonzero(known)[0]:
+                lam[place], V[place] = self.eigen[int(at[place])][:2]
+            if not known.all():
+                lam[~known], V[~known] = _batches._threaded(np.linalg.eig, A[~known], item_bytes=48 * A.shape[-1] ** 2)
+        if self.eigen is not None:
+            for place, a in enumerate(at):
+                self.eigen.setdefault(int(a), (lam[place], V[place]))
+        return lam, V
+
     def _decomposed(self, pencils, basis, Gr, entries, places, A, lam, V, order):
         """:meth:`_near` of the anchors ``places`` (P,) from their state matrices ``A`` (P, 2m, 2m),
         roots ``lam`` (P, 2m), eigenvectors ``V`` (P, 2m, 2m) and wanted roots ``order`` (P, want):
         (P,) bool, whether each was decomposed (False: a defective anchor, whose nearer speeds take
-        their own roots). Each anchor's numbers are its own, whichever anchors share the call."""
-        m = basis.shape[1]
-        try:
-            inverse = np.linalg.inv(V)
-            done = np.ones(len(places), bool)
-        except np.linalg.LinAlgError:            # each alone: only a defective anchor is left out
-            inverse, done = np.empty(V.shape, complex), np.zeros(len(places), bool)
-            for at in range(len(places)):
-                try:
-                    inverse[at], done[at] = np.linalg.inv(V[at]), True
-                except np.linalg.LinAlgError:
-                    pass
-            A, lam, V, order, inverse, places = A[done], lam[done], V[done], order[done], inverse[done], places[done]
-        # the decomposition's own error R_a = V^-1 (A V - V Lambda): each row's sum of moduli at most
-        # |V^-1| |A V - V Lambda| summed (added to the discs' radii)
-        error = np.abs(A @ V - V * lam[:, None, :]).sum(axis=2)
-        error = np.einsum("pij,pj->pi", np.abs(inverse), error)
-        lower = inverse[:, :, m:]                                               # V^-1 [0; I], (P, 2m, m)
-        # the bearings' entries by their distinct rows and columns (a bearing's 2 x 2 block: half as many)
-        at_rows, at_cols = basis[entries.rows].T, basis[entries.cols]
-        factors = (lower @ Gr @ V[:, m:], lower @ at_rows, at_cols @ V[:, :m], at_cols @ V[:, m:])
-        for at, place in enumerate(places):
-            self._near(pencils, place, lam[at], order[at], error[at], [f[at] for f in factors] + [entries])
-        return done
+        their own roots). Each anchor's numbers are its own, whichever anchors share the call; an
+        anchor's products (:func:`_decomposition`) are taken from ``eigen`` where they are there."""
+        at = self.solved[places]
+        parts = [self.eigen[int(a)][2] if self.eigen is not None and len(self.eigen.get(int(a), ())) > 2 else None
+                 for a in at]
+        new = np.array([part is None for part in parts], bool)
+        if new.any():
+            made = iter(_decomposition(basis, Gr, entries, A[new], lam[new], V[new]))
+            parts = [next(made) if part is None else part for part in parts]
+            if self.eigen is not None:
+                for a, part in zip(at[new], np.array(parts, object)[new]):
+                    self.eigen[int(a)] = self.eigen[int(a)][:2] + (part,)
+        for j, place in enumerate(places):
+            if parts[j] is not False:
+                error, factors = parts[j]
+                self._near(pencils, place, lam[j], order[j], error, list(factors) + [entries])
+        return np.array([part is not False for part in parts], bool)
 
     def _near(self, pencils, place, lam, order, error, factors):
         """The discs and the roots' changes at the speeds nearer the anchor ``place`` and at their
@@ -430,10 +450,44 @@ class _Expansions:
         gaps = lam[order][:, None] - lam[None, :]                                   # (want, 2m)
         gaps[np.arange(len(order)), order] = np.inf
         self.changes[rows] = _second_order(F[:, order, :], np.swapaxes(F[:, :, order], 1, 2), order, gaps)
+        if not self.at_nodes:
+            return
         nodes = np.unique(self.nodes[rows])
         along, across = _changed(pencils, nodes, anchor, factors, order)           # F's rows and columns of the roots
         change = _second_order(along, across, order, gaps)
         self.node_changes[rows] = change[np.searchsorted(nodes, self.nodes[rows])]
+
+
+def _decomposition(basis, Gr, entries, A, lam, V):
+    """The products of anchors' decompositions that :meth:`_Expansions._near` takes, from their state
+    matrices ``A`` (P, 2m, 2m), roots ``lam`` (P, 2m) and eigenvectors ``V`` (P, 2m, 2m): for each
+    anchor, its rows' error (2m,) and the factors of :func:`_changed`, or False where ``V`` is
+    singular (a defective anchor). Each anchor's numbers are its own, whichever share the call."""
+    m = basis.shape[1]
+    try:
+        inverse = np.linalg.inv(V)
+        done = np.ones(len(V), bool)
+    except np.linalg.LinAlgError:            # each alone: only a defective anchor is left out
+        inverse, done = np.empty(V.shape, complex), np.zeros(len(V), bool)
+        for at in range(len(V)):
+            try:
+                inverse[at], done[at] = np.linalg.inv(V[at]), True
+            except np.linalg.LinAlgError:
+                pass
+        A, lam, V, inverse = A[done], lam[done], V[done], inverse[done]
+    # the decomposition's own error R_a = V^-1 (A V - V Lambda): each row's sum of moduli at most
+    # |V^-1| |A V - V Lambda| summed (added to the discs' radii)
+    error = np.abs(A @ V - V * lam[:, None, :]).sum(axis=2)
+    error = np.einsum("pij,pj->pi", np.abs(inverse), error)
+    lower = inverse[:, :, m:]                                               # V^-1 [0; I], (P, 2m, m)
+    # the bearings' entries by their distinct rows and columns (a bearing's 2 x 2 block: half as many)
+    at_rows, at_cols = basis[entries.rows].T, basis[entries.cols]
+    factors = (lower @ Gr @ V[:, m:], lower @ at_rows, at_cols @ V[:, :m], at_cols @ V[:, m:])
+    out, j = [], 0
+    for ok in done:
+        out.append((error[j], tuple(f[j] for f in factors)) if ok else False)
+        j += int(ok)
+    return out
 
 
 def _lagrange_weights(at, x):

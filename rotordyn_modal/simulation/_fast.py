@@ -64,11 +64,19 @@ def _coefficients(t2):
 
 
 def _solve_spd(M, f, k, out):
-    """Solve ``M[:k, :k] x = f[:k]`` by Cholesky (M overwritten)."""
+    """Solve ``M[:k, :k] x = f[:k]`` by Cholesky (M overwritten). A pivot that is not > 0 (a mass
+    matrix not positive definite in double precision) gives ``x`` = NaN: DOP853 rejects the trial
+    step whose stage reached that state (a first step after a restart at an output time, 1e9 rad
+    away on the stiff casing of tests/test_simulate_stiff27s.py) and tries a shorter one; a
+    motion that truly reaches it fails with non-finite states."""
     for j in range(k):
         d = M[j, j]
         for p in range(j):
             d -= M[j, p] * M[j, p]
+        if not d > 0.0:     # was a ZeroDivisionError (d = 0) or NaNs (d < 0) from here on
+            for i in range(k):
+                out[i] = np.nan
+            return
         d = np.sqrt(d)
         M[j, j] = d
         for i in range(j + 1, k):
@@ -102,6 +110,10 @@ def _solve_ordered(M, f, k, out, order, first, start, rows):
         for p in range(fj, j):
             c = M[rj, order[p]]
             d -= c * c
+        if not d > 0.0:
+            for i in range(k):
+                out[order[i]] = np.nan
+            return
         d = np.sqrt(d)
         M[rj, rj] = d
         for q in range(start[j], start[j + 1]):

@@ -174,7 +174,7 @@ def run(args) -> int:
         print(f"\npeaks (API 684; amplitude {amplitude_label(args.amplitude)}):", file=sys.stderr)
         print_table(in_units(one_convention(peaks, args.amplitude), result, args.units),
                     empty=f"no resonance peak {speeds_text(args)}")
-        if "verdict" in peaks and not np.all(np.isfinite(peaks["amplification_factor"].to_numpy(dtype=float))):
+        if "verdict" in peaks and np.isnan(peaks["amplification_factor"].to_numpy(dtype=float)).any():
             print(AF_UNKNOWN, file=sys.stderr)            # what a verdict of an unknown AF rests on
     checks = _write_checks(result, model, mcs, min_speed, args,
                            None if args.operating is None else operating)

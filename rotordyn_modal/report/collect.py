@@ -879,7 +879,8 @@ def _campbell(data):
     judged = table[table["verdict"] != "not evaluated"]
     unknown = len(table) - len(judged)
     # an unknown AF's peak is judged against the largest margin any AF requires where it meets it
-    passed = int(np.sum(~np.isfinite(judged["amplification_factor"].to_numpy(dtype=float))))
+    # (an undamped resonance's AF is inf: known, judged against the margin an infinite AF requires)
+    passed = int(np.sum(np.isnan(judged["amplification_factor"].to_numpy(dtype=float))))
     note = (f"; {unknown} peak(s) not evaluated: AF unknown (the amplitude does not fall to peak/sqrt(2) on "
             "both sides within the sweep) and a margin below what some AF requires" if unknown else "") + \
         (f"; {passed} peak(s) of unknown AF pass: margin at least what any AF requires (16 % below, 26 % above)"
@@ -889,7 +890,7 @@ def _campbell(data):
         return
     worst = judged.iloc[int(np.argmin(judged["separation_margin_pct"] - judged["required_margin_pct"]))]
     verdict = "fail" if (judged["verdict"] == "fail").any() else ("not evaluated" if unknown else "pass")
-    af = f"AF {worst.amplification_factor:.2f}" if np.isfinite(worst.amplification_factor) else "AF unknown"
+    af = "AF unknown" if np.isnan(worst.amplification_factor) else f"AF {worst.amplification_factor:.2f}"
     data.criteria.append(Criterion(
         name, f"{worst.separation_margin_pct:.1f} % ({af})",
         f">= {worst.required_margin_pct:.1f} %", verdict, "campbell",

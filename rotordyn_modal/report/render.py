@@ -425,14 +425,16 @@ def _modes(data, units) -> str:
     mcs = data.inputs.mcs * 30 / np.pi
     low, high = (x * 30 / np.pi for x in shapes.window)
     rows, captions = [], []
-    for number, reason in zip(numbers, shapes.reasons):
+    tracked = shapes.tracked or (0,) * len(numbers)
+    for number, reason, label in zip(numbers, shapes.reasons, tracked):
         k = mode_index(result, number)
+        shown = mode_label(number, label)
         # a log decrement at round-off (an undamped axial mode: 1e-15) shows as 0
         delta, zeta = (x if abs(x) > _ROUND_OFF_DAMPING else 0.0
                        for x in (result.log_decrements[k], result.damping_ratios[k]))
         whirl = f"{result.whirl[k]} whirl" if result.whirl[k] != "none" else "no whirl"
-        rows.append([str(number), _g(result.frequencies_hz[k], 5), whirl, _g(delta, 3), _g(zeta, 3), reason])
-        captions.append(f"mode {number}: {result.frequencies_hz[k]:.4g} Hz, {whirl}, log dec {delta:.3g}")
+        rows.append([shown, _g(result.frequencies_hz[k], 5), whirl, _g(delta, 3), _g(zeta, 3), reason])
+        captions.append(f"mode {shown}: {result.frequencies_hz[k]:.4g} Hz, {whirl}, log dec {delta:.3g}")
     if shapes.lines is not None:
         from ..plotting.shaft_modes import plot_shaft_modes
 
@@ -447,7 +449,10 @@ def _modes(data, units) -> str:
         what = "each coordinate's share of the mode (|shape|, normalised)"
     return "\n".join([
         _heading("modes"),
-        f"<p>Modes at the MCS ({mcs:.6g} rpm), numbered as <code>modes --speed {mcs:.6g}</code> numbers them: "
+        f"<p>Modes at the MCS ({mcs:.6g} rpm), numbered as the Campbell diagram, the critical-speed table and "
+        "<code>stability</code> number them (tracked over the sweep: mode N is one mode throughout the report); "
+        f"where <code>modes --speed {mcs:.6g}</code> numbers one otherwise, its number there follows in brackets "
+        "(the figure's panels carry that number). Shown are "
         f"those whose 1X critical speed or whose frequency at the MCS (as a 1X speed) lies within "
         f"{100 * MODE_WINDOW[0]:.0f} % below or {100 * MODE_WINDOW[1]:.0f} % above (the largest separation "
         "margins API 617 asks) the operating range, "
@@ -456,6 +461,15 @@ def _modes(data, units) -> str:
         _table(rows, [("mode", True), ("frequency [Hz]", False), ("whirl", True), ("log decrement [-]", False),
                       ("damping ratio [-]", False), ("shown because", True)]),
         _figure(fig, f"Figure: {what}. " + "; ".join(captions) + ".", "Mode shapes")])
+
+
+def mode_label(number: int, tracked: int) -> str:
+    """A mode-shape row's mode: its tracked (Campbell) number ``tracked``, with the number
+    ``number`` that ``modes --speed MCS`` gives it in brackets where the two differ ("5 (2 at
+    the MCS)"); ``number`` alone where no tracked column is that root (``tracked`` 0)."""
+    if not tracked:
+        return f"{number} at the MCS"
+    return str(tracked) if tracked == number else f"{tracked} ({number} at the MCS)"
 
 
 def _ucs(data, units) -> str:
@@ -504,6 +518,12 @@ def _unbalance(data, units) -> str:
                      "of every panel with their AF and separation margin from the operating range (the probes' peaks "
                      "are judged in the table of section Campbell diagram and critical speeds); API 617 probe limits (informative in an ISO report) "
                      "and the ISO zones where checked.", "Unbalance response")]
+    onset = data.results.get("onset", float("nan"))
+    if np.isfinite(onset):
+        parts.append(f'<p class="note">Not a steady state above {onset * 30 / np.pi:,.0f} rpm: a mode grows in time '
+                     "from there (summary, \"Stability over the operating range\"; Campbell diagram). A linear model "
+                     "unstable at a speed has no steady unbalance response there: the amplitudes shown above that "
+                     "speed solve the equations but describe no vibration the machine settles to.</p>")
     from .collect import probe_limit_table
 
     table = probe_limit_table(data)

@@ -987,13 +987,14 @@ def _stability(data):
         k = int(np.argmin(column)) if np.isfinite(column).any() else None
         onset = ("from the sweep's first speed, " + rpm_text(result.speeds[0] * rpm) + " rpm" if np.isnan(start)
                  else f"from {rpm_text(start * rpm)} rpm")
-        delta = (f"log decrement {column[k]:.3g} at {rpm_text(result.speeds[in_range][k] * rpm)} rpm"
-                 if k is not None else "")
+        least = f"; its least log decrement there at {rpm_text(result.speeds[in_range][k] * rpm)} rpm" \
+            if k is not None else ""
         data.criteria.append(Criterion.of(
             STABILITY_CRITERION, "fail", "campbell",
-            f"mode {mode} (Campbell diagram's number) unstable {onset} ({where}); a linear model with a growing "
-            "mode has no steady unbalance response there: the unbalance results above the onset are no steady "
-            "state", value=f"mode {mode} unstable {onset}" + (f"; {delta}" if delta else ""), limit="log decrement > 0"))
+            f"mode {mode} (Campbell diagram's number) unstable {onset} ({where}){least}; a linear model with a "
+            "growing mode has no steady unbalance response there: the unbalance results above the onset are no "
+            "steady state", value=(f"log dec {column[k]:.3g} (mode {mode})" if k is not None else f"mode {mode}"),
+            limit="log dec > 0"))
         return
     if not np.isfinite(log_dec).any():
         data.criteria.append(Criterion.of(STABILITY_CRITERION, "not evaluated", "campbell",
@@ -1007,7 +1008,7 @@ def _stability(data):
         STABILITY_CRITERION, "pass", "campbell",
         f"every mode decays over the {where}; least damped: mode {int(result.modes[column])} (Campbell diagram's "
         f"number) at {rpm_text(result.speeds[in_range][k] * rpm)} rpm{later}",
-        value=f"least log decrement {log_dec[k, column]:.3g}", limit="log decrement > 0"))
+        value=f"log dec {log_dec[k, column]:.3g} (mode {int(result.modes[column])})", limit="log dec > 0"))
 
 
 #: the separation margin's criterion (in an ISO report informative: ISO sets no margin)

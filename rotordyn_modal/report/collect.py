@@ -91,8 +91,8 @@ CRITERION_SOURCES = (
                                               "(unverified against the standard); docs/standards.md"),
     ("API 617 Level I", "API 617 (7th ed., kept in the 8th) Level I, API RP 684 (2nd ed.) SP6.8.5, as ROSS "
                         "implements it (unverified against the standard); docs/level1_and_ucs.md"),
-    ("Stability over the operating range", "no standard's criterion: a linear model with a growing mode has no "
-                                           "steady unbalance response there; onset as 'rotordyn-modal stability' "
+    ("Stability over the operating range", "not an API or ISO criterion: a linear model with a growing mode has "
+                                           "no steady unbalance response there; onset as 'rotordyn-modal stability' "
                                            "refines it; docs/report.md, docs/standards.md"),
     ("ISO 20816-3", "ISO 20816-3 zone boundaries (those of ISO 10816-3:2009 Annex A); docs/standards.md"),
 )
@@ -994,7 +994,7 @@ def _stability(data):
             f"mode {mode} (Campbell diagram's number) unstable {onset} ({where}){least}; a linear model with a "
             "growing mode has no steady unbalance response there: the unbalance results above the onset are no "
             "steady state", value=(f"log dec {column[k]:.3g} (mode {mode})" if k is not None else f"mode {mode}"),
-            limit="log dec > 0"))
+            limit="log dec >= 0"))
         return
     if not np.isfinite(log_dec).any():
         data.criteria.append(Criterion.of(STABILITY_CRITERION, "not evaluated", "campbell",
@@ -1004,11 +1004,12 @@ def _stability(data):
     above = [a for a, _ in spans if np.isfinite(a) and a > high]
     later = (f"; mode {int(modes[np.isclose(thresholds, above[0])][0])} becomes unstable from "
              f"{rpm_text(above[0] * rpm)} rpm, above the range" if above else "")
+    undamped = "; 0: an undamped mode, neither growing nor decaying" if log_dec[k, column] == 0 else ""
     data.criteria.append(Criterion.of(
         STABILITY_CRITERION, "pass", "campbell",
-        f"every mode decays over the {where}; least damped: mode {int(result.modes[column])} (Campbell diagram's "
+        f"no mode grows over the {where}; least damped{undamped}: mode {int(result.modes[column])} (Campbell diagram's "
         f"number) at {rpm_text(result.speeds[in_range][k] * rpm)} rpm{later}",
-        value=f"log dec {log_dec[k, column]:.3g} (mode {int(result.modes[column])})", limit="log dec > 0"))
+        value=f"log dec {log_dec[k, column]:.3g} (mode {int(result.modes[column])})", limit="log dec >= 0"))
 
 
 #: the separation margin's criterion (in an ISO report informative: ISO sets no margin)
@@ -1069,7 +1070,9 @@ def _modes(data):
             # lateral modes nearest the window are drawn instead
             nearest = _nearest_lateral(data.model, result, window)
             if nearest:
-                note = (f"The window holds no lateral mode: {', '.join(f'mode {n}' for n in numbers)} "
+                labels = tracked_numbers(data.results.get("campbell"), mcs, numbers) or (0,) * len(numbers)
+                note = (f"The window holds no lateral mode: "
+                        f"{', '.join(f'mode {mode_label(n, t)}' for n, t in zip(numbers, labels))} "
                         f"{'is' if len(numbers) == 1 else 'are'} axial or torsional (no lateral motion to draw); "
                         "the lateral modes nearest the operating range, below and above the window, are shown "
                         "instead.")
@@ -1078,6 +1081,15 @@ def _modes(data):
                 lines = tuple(nearest[n][1] for n in numbers)
     data.results["modes"] = ModeShapes(result, numbers, tuple(reasons[n] for n in numbers), window, lines, note,
                                        tracked_numbers(data.results.get("campbell"), mcs, numbers))
+
+
+def mode_label(number: int, tracked: int) -> str:
+    """A mode-shape row's mode: its tracked (Campbell) number ``tracked``, with the number
+    ``number`` that ``modes --speed MCS`` gives it in brackets where the two differ ("5 (2 at
+    the MCS)"); ``number`` alone where no tracked column is that root (``tracked`` 0)."""
+    if not tracked:
+        return f"{number} at the MCS"
+    return str(tracked) if tracked == number else f"{tracked} ({number} at the MCS)"
 
 
 def tracked_numbers(campbell, mcs, numbers) -> tuple:

@@ -425,6 +425,8 @@ def _modes(data, units) -> str:
     mcs = data.inputs.mcs * 30 / np.pi
     low, high = (x * 30 / np.pi for x in shapes.window)
     rows, captions = [], []
+    from .collect import mode_label
+
     tracked = shapes.tracked or (0,) * len(numbers)
     for number, reason, label in zip(numbers, shapes.reasons, tracked):
         k = mode_index(result, number)
@@ -461,15 +463,6 @@ def _modes(data, units) -> str:
         _table(rows, [("mode", True), ("frequency [Hz]", False), ("whirl", True), ("log decrement [-]", False),
                       ("damping ratio [-]", False), ("shown because", True)]),
         _figure(fig, f"Figure: {what}. " + "; ".join(captions) + ".", "Mode shapes")])
-
-
-def mode_label(number: int, tracked: int) -> str:
-    """A mode-shape row's mode: its tracked (Campbell) number ``tracked``, with the number
-    ``number`` that ``modes --speed MCS`` gives it in brackets where the two differ ("5 (2 at
-    the MCS)"); ``number`` alone where no tracked column is that root (``tracked`` 0)."""
-    if not tracked:
-        return f"{number} at the MCS"
-    return str(tracked) if tracked == number else f"{tracked} ({number} at the MCS)"
 
 
 def _ucs(data, units) -> str:
@@ -642,7 +635,7 @@ def _level1_mode(data, run) -> str:
 
 def _tracked_label(data, number: int) -> str:
     """:func:`mode_label` of the mode ``modes --speed MCS`` numbers ``number``."""
-    from .collect import tracked_numbers
+    from .collect import mode_label, tracked_numbers
 
     campbell = None if data is None else data.results.get("campbell")
     if campbell is None:

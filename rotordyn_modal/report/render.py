@@ -427,7 +427,7 @@ def _modes(data, units) -> str:
     rows, captions = [], []
     from .collect import mode_label
 
-    tracked = shapes.tracked or (0,) * len(numbers)
+    tracked = shapes.tracked or numbers                   # no Campbell sweep: the MCS numbers alone
     for number, reason, label in zip(numbers, shapes.reasons, tracked):
         k = mode_index(result, number)
         shown = mode_label(number, label)

@@ -91,6 +91,9 @@ CRITERION_SOURCES = (
                                               "(unverified against the standard); docs/standards.md"),
     ("API 617 Level I", "API 617 (7th ed., kept in the 8th) Level I, API RP 684 (2nd ed.) SP6.8.5, as ROSS "
                         "implements it (unverified against the standard); docs/level1_and_ucs.md"),
+    ("Stability over the operating range", "not an API or ISO criterion: a linear model with a growing mode has "
+                                           "no steady unbalance response there; onset as 'rotordyn-modal stability' "
+                                           "refines it; docs/report.md, docs/standards.md"),
     ("ISO 20816-3", "ISO 20816-3 zone boundaries (those of ISO 10816-3:2009 Annex A); docs/standards.md"),
 )
 
@@ -209,6 +212,10 @@ class ModeShapes:
     reasons : tuple of str
         Why each is shown (its 1X critical speed or its frequency in the window, or the lowest).
     window : (float, float) [rad/s]
+    tracked : tuple of int
+        Each shown mode's number in the Campbell diagram and the critical-speed table (tracked over
+        the sweep, as ``stability`` and ``critical-speeds`` number it; 0 where no tracked column is
+        that root at the MCS); () without a Campbell sweep.
     lines : tuple of ShaftLines or None
         Each mode's deflected shaft lines when a rotor is flexible (None: rigid rotors only,
         drawn as the mode-shape bar chart).
@@ -223,6 +230,7 @@ class ModeShapes:
     window: tuple
     lines: tuple | None = None
     note: str = ""
+    tracked: tuple = ()
 
 
 @dataclass
@@ -860,6 +868,7 @@ def _campbell(data):
 
     data.results["campbell"] = campbell(data.model, data.inputs.speeds, orders=(1,))
     data.results["critical_round_off"] = critical_round_off(data.model, data.results["campbell"].critical)
+    _stability(data)
     name = _MARGIN + (" (informative)" if data.inputs.standard == "iso" else "")
     _unbalance(data)                      # the amplification factors come from the response
     response = data.results.get("unbalance")
@@ -896,6 +905,112 @@ def _campbell(data):
         f">= {worst.required_margin_pct:.1f} %", verdict, "campbell",
         f"governing peak: {worst.output} at {rpm_text(worst.speed_rpm)} rpm" + (_case(worst) or f", 1X {worst.source}")
         + note))
+
+
+#: the summary row of the machine's stability over its operating range
+STABILITY_CRITERION = "Stability over the operating range"
+
+
+def sweep_thresholds(model, result):
+    """The stability thresholds of the Campbell sweep ``result`` of ``model``, as
+    :func:`rotordyn_modal.analysis.stability.stability` refines them on the same speeds: its
+    sweep is the same (one batch solve, roots tracked and polished alike, so the Campbell's mode
+    N is ``stability``'s mode N), and its crossings are root-found by the same
+    :func:`..analysis.stability.threshold_speeds` (Brent's method on the eigenproblem), at the cost
+    of the refinement's few eigen-solutions only.
+
+    Returns
+    -------
+    thresholds : ndarray [rad/s]; modes : ndarray of int (the Campbell's numbers); onsets : ndarray of bool
+    """
+    import functools
+
+    from ..analysis._stack import Stack
+    from ..analysis.stability import _polished_largest_real_part, roundoff_levels, threshold_speeds
+
+    stack = Stack([model])
+    roundoff = roundoff_levels(stack.forms[0], result.speeds)
+    # the polished roots, as stability's sweep where double precision leaves some inexact (the same
+    # roots where it does not: _refine_inexact polishes only those)
+    return threshold_speeds(stack.forms[0], result.speeds, result.eigenvalues, roundoff,
+                            largest=functools.partial(_polished_largest_real_part, stack)), roundoff
+
+
+def unstable_spans(result, thresholds, onsets, roundoff) -> list:
+    """Intervals of speed [rad/s] where the sweep ``result`` is unstable, as
+    :attr:`..analysis.stability.StabilityResult.unstable_intervals` (start NaN: unstable from the
+    sweep's first speed; stop NaN: to its last)."""
+    from ..analysis.stability import _significant_real_parts
+
+    largest = _significant_real_parts(result.eigenvalues, roundoff=roundoff).max(axis=1, initial=-np.inf)
+    intervals, start, open_ = [], float("nan"), bool(largest[0] > 0)
+    for speed, onset in sorted(zip(np.asarray(thresholds).tolist(), np.asarray(onsets).tolist())):
+        if onset and not open_:
+            start, open_ = speed, True
+        elif not onset and open_:
+            intervals.append((start, speed))
+            open_ = False
+    if open_:
+        intervals.append((start, float("nan")))
+    return intervals
+
+
+def _stability(data):
+    """The summary row :data:`STABILITY_CRITERION`: fail where a mode grows (real part > 0 beyond
+    round-off) at some speed of the operating range, naming the mode (the Campbell's number), the
+    onset (the refined threshold) and its least log decrement in the range; pass with the least log
+    decrement over the range's swept speeds otherwise. ``data.results["onset"]``: the lowest
+    threshold [rad/s] where the machine turns unstable below the range's top (or the sweep's first
+    speed when it starts unstable), NaN when none: the unbalance section marks the response above it."""
+    from ..analysis.modal import is_oscillating
+    from ..analysis.stability import _significant_real_parts
+
+    result = data.results["campbell"]
+    (thresholds, modes, onsets), roundoff = sweep_thresholds(data.model, result)
+    low, high = data.inputs.range
+    spans = unstable_spans(result, thresholds, onsets, roundoff)
+    inside = [(a, b) for a, b in spans if (np.isnan(a) or a <= high) and (np.isnan(b) or b >= low)]
+    data.results["onset"] = (result.speeds[0] if inside and np.isnan(inside[0][0]) else
+                             inside[0][0] if inside else float("nan"))
+    in_range = (result.speeds >= low * (1 - 1e-12)) & (result.speeds <= high * (1 + 1e-12))
+    significant = _significant_real_parts(result.eigenvalues[in_range], roundoff=roundoff[in_range])
+    log_dec = np.where(significant == 0, 0.0, result.log_decrements[in_range])
+    log_dec = np.where(is_oscillating(result.eigenvalues[in_range]), log_dec, np.inf)
+    rpm = 30 / np.pi
+    where = (f"operating range {rpm_text(low * rpm)} to {rpm_text(high * rpm)} rpm" if high > low
+             else f"operating speed {rpm_text(low * rpm)} rpm")
+    if inside:
+        start = inside[0][0]
+        at = (np.isfinite(thresholds) & onsets & np.isclose(thresholds, start)) if np.isfinite(start) else None
+        mode = int(modes[at][0]) if at is not None and at.any() else \
+            int(result.modes[int(np.argmax(_significant_real_parts(result.eigenvalues[:1], roundoff=roundoff[:1])[0]))])
+        column = log_dec[:, mode - 1] if log_dec.size else np.array([np.nan])
+        k = int(np.argmin(column)) if np.isfinite(column).any() else None
+        onset = ("from the sweep's first speed, " + rpm_text(result.speeds[0] * rpm) + " rpm" if np.isnan(start)
+                 else f"from {rpm_text(start * rpm)} rpm")
+        least = f"; its least log decrement there at {rpm_text(result.speeds[in_range][k] * rpm)} rpm" \
+            if k is not None else ""
+        data.criteria.append(Criterion.of(
+            STABILITY_CRITERION, "fail", "campbell",
+            f"mode {mode} (Campbell diagram's number) unstable {onset} ({where}){least}; a linear model with a "
+            "growing mode has no steady unbalance response there: the unbalance results above the onset are no "
+            "steady state", value=(f"log dec {column[k]:.3g} (mode {mode})" if k is not None else f"mode {mode}"),
+            limit="log dec >= 0"))
+        return
+    if not np.isfinite(log_dec).any():
+        data.criteria.append(Criterion.of(STABILITY_CRITERION, "not evaluated", "campbell",
+                                          f"no oscillating mode at the swept speeds of the {where}"))
+        return
+    k, column = np.unravel_index(int(np.argmin(log_dec)), log_dec.shape)
+    above = [a for a, _ in spans if np.isfinite(a) and a > high]
+    later = (f"; mode {int(modes[np.isclose(thresholds, above[0])][0])} becomes unstable from "
+             f"{rpm_text(above[0] * rpm)} rpm, above the range" if above else "")
+    undamped = "; 0: an undamped mode, neither growing nor decaying" if log_dec[k, column] == 0 else ""
+    data.criteria.append(Criterion.of(
+        STABILITY_CRITERION, "pass", "campbell",
+        f"no mode grows over the {where}; least damped{undamped}: mode {int(result.modes[column])} (Campbell diagram's "
+        f"number) at {rpm_text(result.speeds[in_range][k] * rpm)} rpm{later}",
+        value=f"log dec {log_dec[k, column]:.3g} (mode {int(result.modes[column])})", limit="log dec >= 0"))
 
 
 #: the separation margin's criterion (in an ISO report informative: ISO sets no margin)
@@ -956,14 +1071,40 @@ def _modes(data):
             # lateral modes nearest the window are drawn instead
             nearest = _nearest_lateral(data.model, result, window)
             if nearest:
-                note = (f"The window holds no lateral mode: {', '.join(f'mode {n}' for n in numbers)} "
+                labels = tracked_numbers(data.results.get("campbell"), mcs, numbers) or (0,) * len(numbers)
+                note = (f"The window holds no lateral mode: "
+                        f"{', '.join(f'mode {mode_label(n, t)}' for n, t in zip(numbers, labels))} "
                         f"{'is' if len(numbers) == 1 else 'are'} axial or torsional (no lateral motion to draw); "
                         "the lateral modes nearest the operating range, below and above the window, are shown "
                         "instead.")
                 reasons = {n: why for n, (why, _) in nearest.items()}
                 numbers = tuple(sorted(nearest))
                 lines = tuple(nearest[n][1] for n in numbers)
-    data.results["modes"] = ModeShapes(result, numbers, tuple(reasons[n] for n in numbers), window, lines, note)
+    data.results["modes"] = ModeShapes(result, numbers, tuple(reasons[n] for n in numbers), window, lines, note,
+                                       tracked_numbers(data.results.get("campbell"), mcs, numbers))
+
+
+def mode_label(number: int, tracked: int) -> str:
+    """A mode-shape row's mode: its tracked (Campbell) number ``tracked``, with the number
+    ``number`` that ``modes --speed MCS`` gives it in brackets where the two differ ("5 (2 at
+    the MCS)"); ``number`` alone where no tracked column is that root (``tracked`` 0)."""
+    if not tracked:
+        return f"{number} at the MCS"
+    return str(tracked) if tracked == number else f"{tracked} ({number} at the MCS)"
+
+
+def tracked_numbers(campbell, mcs, numbers) -> tuple:
+    """The Campbell sweep's (tracked) number of each mode ``numbers`` as ``modes --speed MCS``
+    numbers them: the column whose root at the sweep's speed nearest ``mcs`` [rad/s] (the MCS is
+    among the report's speeds) ``modes`` numbers so; 0 where none is; () without a sweep."""
+    from ..analysis.mode_numbers import numbers_at_speed
+
+    if campbell is None:
+        return ()
+    k = int(np.argmin(np.abs(np.abs(campbell.speeds) - mcs)))
+    at_mcs = numbers_at_speed(campbell.eigenvalues[k])
+    return tuple(int(campbell.modes[np.flatnonzero(at_mcs == n)[0]]) if (at_mcs == n).any() else 0
+                 for n in numbers)
 
 
 #: the lateral modes shown on each side of the window when it holds only axial or torsional ones

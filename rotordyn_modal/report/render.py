@@ -425,14 +425,18 @@ def _modes(data, units) -> str:
     mcs = data.inputs.mcs * 30 / np.pi
     low, high = (x * 30 / np.pi for x in shapes.window)
     rows, captions = [], []
-    for number, reason in zip(numbers, shapes.reasons):
+    from .collect import mode_label
+
+    tracked = shapes.tracked or numbers                   # no Campbell sweep: the MCS numbers alone
+    for number, reason, label in zip(numbers, shapes.reasons, tracked):
         k = mode_index(result, number)
+        shown = mode_label(number, label)
         # a log decrement at round-off (an undamped axial mode: 1e-15) shows as 0
         delta, zeta = (x if abs(x) > _ROUND_OFF_DAMPING else 0.0
                        for x in (result.log_decrements[k], result.damping_ratios[k]))
         whirl = f"{result.whirl[k]} whirl" if result.whirl[k] != "none" else "no whirl"
-        rows.append([str(number), _g(result.frequencies_hz[k], 5), whirl, _g(delta, 3), _g(zeta, 3), reason])
-        captions.append(f"mode {number}: {result.frequencies_hz[k]:.4g} Hz, {whirl}, log dec {delta:.3g}")
+        rows.append([shown, _g(result.frequencies_hz[k], 5), whirl, _g(delta, 3), _g(zeta, 3), reason])
+        captions.append(f"mode {shown}: {result.frequencies_hz[k]:.4g} Hz, {whirl}, log dec {delta:.3g}")
     if shapes.lines is not None:
         from ..plotting.shaft_modes import plot_shaft_modes
 
@@ -447,7 +451,10 @@ def _modes(data, units) -> str:
         what = "each coordinate's share of the mode (|shape|, normalised)"
     return "\n".join([
         _heading("modes"),
-        f"<p>Modes at the MCS ({mcs:.6g} rpm), numbered as <code>modes --speed {mcs:.6g}</code> numbers them: "
+        f"<p>Modes at the MCS ({mcs:.6g} rpm), numbered as the Campbell diagram, the critical-speed table and "
+        "<code>stability</code> number them (tracked over the sweep: mode N is one mode throughout the report); "
+        f"where <code>modes --speed {mcs:.6g}</code> numbers one otherwise, its number there follows in brackets "
+        "(the figure's panels carry that number). Shown are "
         f"those whose 1X critical speed or whose frequency at the MCS (as a 1X speed) lies within "
         f"{100 * MODE_WINDOW[0]:.0f} % below or {100 * MODE_WINDOW[1]:.0f} % above (the largest separation "
         "margins API 617 asks) the operating range, "
@@ -504,6 +511,12 @@ def _unbalance(data, units) -> str:
                      "of every panel with their AF and separation margin from the operating range (the probes' peaks "
                      "are judged in the table of section Campbell diagram and critical speeds); API 617 probe limits (informative in an ISO report) "
                      "and the ISO zones where checked.", "Unbalance response")]
+    onset = data.results.get("onset", float("nan"))
+    if np.isfinite(onset):
+        parts.append(f'<p class="note">Not a steady state above {onset * 30 / np.pi:,.0f} rpm: a mode grows in time '
+                     "from there (summary, \"Stability over the operating range\"; Campbell diagram). A linear model "
+                     "unstable at a speed has no steady unbalance response there: the amplitudes shown above that "
+                     "speed solve the equations but describe no vibration the machine settles to.</p>")
     from .collect import probe_limit_table
 
     table = probe_limit_table(data)
@@ -599,11 +612,13 @@ def _level1(data, units) -> str:
         _heading("level1"),
         f"<p>Stations: {escape(', '.join(_station(s, units) for s in result.stations))}; at the MCS the "
         f"rotor's forward modes at the station ({len(runs)} followed) are swept and the least stable is judged: "
-        f"{result.mode_label} (docs/report.md). {escape(result.verdict(units))}.</p>",
+        f"{_level1_mode(data, result)} (docs/report.md; numbered as the Campbell diagram, the number "
+        f"<code>modes --speed</code> gives it at the MCS in brackets where it differs). "
+        f"{escape(result.verdict(units))}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
-        _runs_table(runs, result, units),
+        _runs_table(runs, result, units, data),
         _figure(result.plot(**_units(units)), f"Figure: log decrement of each swept forward mode against the "
-                f"applied cross-coupling Q, {result.mode_label} (bold), the least stable at Qa; Q0 the smallest of "
+                f"applied cross-coupling Q, {_level1_mode(data, result)} (bold), the least stable at Qa; Q0 the smallest of "
                 "the swept modes' (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
         + ([] if csr is None or not csr.evaluated else [_figure(csr.plot(verdict=result.verdict().rpartition(": ")[2], **_units(units)),
                                            "Figure: critical speed ratio against average gas density, the dividing "
@@ -611,16 +626,34 @@ def _level1(data, units) -> str:
                                            "Critical speed ratio chart")]))
 
 
-def _runs_table(runs, judged, units) -> str:
+def _level1_mode(data, run) -> str:
+    """``mode N`` of a Level I run (its mode at Q = 0, the machine itself, at the MCS) by the
+    Campbell diagram's number, ``modes --speed MCS``'s in brackets where it differs
+    (:func:`mode_label`); the run's own label where it is no mode or there is no sweep."""
+    return f"mode {_tracked_label(data, run.mode)}" if run.mode else run.mode_label
+
+
+def _tracked_label(data, number: int) -> str:
+    """:func:`mode_label` of the mode ``modes --speed MCS`` numbers ``number``."""
+    from .collect import mode_label, tracked_numbers
+
+    campbell = None if data is None else data.results.get("campbell")
+    if campbell is None:
+        return str(number)
+    return mode_label(number, tracked_numbers(campbell, data.inputs.mcs, (number,))[0])
+
+
+def _runs_table(runs, judged, units, data=None) -> str:
     """One row per forward mode the Level I swept: its frequency at Q = 0, log decrement at Qa,
-    Q0 and Q0/Qa, and which criterion it governs."""
+    Q0 and Q0/Qa, and which criterion it governs; its mode numbered as the Campbell diagram
+    (:func:`_tracked_label`; ``data`` None: ``modes --speed MCS``'s number)."""
     factor, unit = shown_scale("stiffness", units)
     rows = []
     for run in runs:
         governs = [what for what, yes in (("log decrement at Qa", run.forward_mode == judged.forward_mode),
                                           ("Q0", np.isfinite(judged.q0) and run.q0 == judged.q0)) if yes]
         beyond = f"> {run.cross_coupling[-1] / run.qa:.3g}"
-        rows.append([str(run.mode) if run.mode else "none (no oscillation at Q = 0)", _g(run.frequencies_hz[0], 5), _g(run.log_decrement_at_qa, 3),
+        rows.append([_tracked_label(data, run.mode) if run.mode else "none (no oscillation at Q = 0)", _g(run.frequencies_hz[0], 5), _g(run.log_decrement_at_qa, 3),
                      _g(run.q0 * factor) if np.isfinite(run.q0) else "beyond the sweep",
                      f"{run.ratio:.3g}" if np.isfinite(run.q0) else beyond, ", ".join(governs)])
     return ("<h3>Forward modes swept</h3>"

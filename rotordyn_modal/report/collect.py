@@ -488,7 +488,8 @@ def _exact_peaks_bound(model, inputs, frequencies=None) -> list:
     """Each searched source's bound on the swept peaks the AF table's exact search refines
     (:func:`..analysis.unbalance_peaks.exact_peaks`), in :func:`_searched_ratios`' order: the
     sensors times the modes (``frequencies`` [rad/s], :func:`_line_crossings`'s, made here where
-    None) whose frequency meets the source's line inside the sweep, at most the peaks the search's
+    None) whose frequency meets the source's line inside the sweep (at most half the swept speeds
+    a curve: a swept peak is above both its neighbours), at most the peaks the search's
     own skip lets run (``peaks * _AF_CALLS * n_dof^3 <= _WORK``: over it the AF read off the sweep,
     so the search costs at most that); none for a large model (:func:`..assembly.is_large`)."""
     from ..analysis.unbalance_peaks import _AF_CALLS, _WORK
@@ -500,8 +501,10 @@ def _exact_peaks_bound(model, inputs, frequencies=None) -> list:
         return [0] * len(ratios)
     frequencies = _line_crossings(model, x) if frequencies is None else frequencies
     most = int(_WORK // (_AF_CALLS * float(model.dofs.n) ** 3))
-    return [min(most, len(model.sensors) * int(np.count_nonzero((frequencies / r > x[0]) & (frequencies / r < x[-1]))))
-            if r else 0 for r in ratios]
+    sides = 1 + bool(np.any(np.asarray(inputs.speeds) < 0) and np.any(np.asarray(inputs.speeds) > 0))
+    per_curve = sides * ((x.size - 1) // 2)                # a swept peak is above both its neighbours
+    met = [int(np.count_nonzero((frequencies / r > x[0]) & (frequencies / r < x[-1]))) if r else 0 for r in ratios]
+    return [min(most, len(model.sensors) * min(m, per_curve)) for m in met]
 
 
 def _searched_ratios(model, inputs) -> list:

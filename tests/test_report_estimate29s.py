@@ -119,3 +119,36 @@ def test_part_names_the_search(fans):
     """The unbalance part's text says the AF's exact search is counted, with its bound."""
     what = dict((p[0], p[2]) for p in collect_module.estimate_work(fans["many"][0], _inputs()).parts)["unbalance"]
     assert "the AF's exact search: at most" in what
+
+
+STUDY = """seed = 3
+samples = 2
+
+[[parameters]]
+key = "stator.mass"
+distribution = "uniform"
+low = 140.0
+high = 160.0
+
+[analyses.{analysis}]
+{options}
+"""
+
+
+@pytest.mark.parametrize("analysis, options, said", [
+    ("unbalance", 'speeds_rpm = "100:6000:31"\noperating_speed_rpm = 3000.0', 1),
+    ("modes", "speed_rpm = 0.0", 0)])
+def test_study_says_its_af_are_swept(tmp_path, capsys, analysis, options, said):
+    """A study whose results hold ``amplification_factor`` (its ``unbalance`` analysis, read off
+    the swept speeds: ``resonances=False``) says so in one line on stderr; one without says nothing."""
+    from rotordyn_modal.cli.main import main
+    from rotordyn_modal.cli.study import SWEPT_AF
+
+    spec = tmp_path / "s.study.toml"
+    spec.write_text(STUDY.format(analysis=analysis, options=options))
+    code = main(["study", str(EXAMPLE.parent / "gear_machine.toml"), "--spec", str(spec),
+                 "--out", str(tmp_path / "s.nc")])
+    err = capsys.readouterr().err
+    assert code == 0
+    assert [line for line in err.splitlines() if "amplification_factor" in line] == [SWEPT_AF] * said
+    assert "swept speeds" in SWEPT_AF and "exact response" in SWEPT_AF

@@ -463,15 +463,17 @@ PEAK_SPEEDS = 10
 EXACT_CALLS = 90
 #: ... each call's work of Python outside the direct solve that :func:`_timed_response` times (the
 #: sources' forces and sensor rows of :func:`..analysis.unbalance._own_source_curve`, the search's
-#: own steps) [CPU s]: measured 0.1-1.5 ms a call (the examples and 10-rotor gear chain above;
-#: the curve's call alone 2-5 times the timed solve's, 0.16-0.36 ms)
-EXACT_CALL_SECONDS = 5e-4
-#: ... and speeds solved a peak (measured 46-99 on the examples, 137-142 on the 10- and 20-rotor gear
-#: chains at 21 speeds; the curve's solve of a speed 1.3-4 times :func:`_timed_response`'s). The
-#: peaks are not known before the run: :func:`_exact_peaks_bound` bounds them by the sensors times
-#: the modes met by the source's line in the sweep (measured 1.5-3 times the swept peaks on the
-#: examples, 10 times on the gear chains, where each sensor sees a few of the chain's modes)
-EXACT_SPEEDS = 100
+#: own steps) [CPU s]: measured 0.1-1.5 ms a call (examples and the 10-rotor gear chain)
+EXACT_CALL_SECONDS = 3e-4
+#: ... and speeds solved a peak, the search's own skip rule's count
+#: (:data:`..analysis.unbalance_peaks._AF_CALLS`; measured 46-99 on the examples, 137-142 on the
+#: 10- and 20-rotor gear chains at 21 speeds), each the timed solve's speed and
+#: :data:`EXACT_SPEED_SECONDS` of Python (the curve's speed measured 1.3-4 times the timed one's:
+#: 10-40 us more). The peaks are not known before the run: :func:`_exact_peaks_bound` bounds them
+#: by the sensors times the modes met by the source's line in the sweep (measured 1.5-3 times the
+#: swept peaks on the examples, 2.5-4.4 on the gear chains, where each sensor sees a few modes)
+EXACT_SPEEDS = 60
+EXACT_SPEED_SECONDS = 2e-5
 
 
 def _line_crossings(model, x) -> np.ndarray:
@@ -745,9 +747,10 @@ def _exact_seconds(peaks, call, per_speed) -> float:
     """CPU seconds [s] of the AF table's exact search (:func:`..analysis.unbalance_peaks.exact_peaks`)
     of sources with ``peaks`` (:func:`_exact_peaks_bound`'s) each: :data:`EXACT_CALLS` calls of the
     response a source that has any (and :data:`EXACT_CALL_SECONDS` each), :data:`EXACT_SPEEDS`
-    speeds solved a peak (``call`` [s] a call, ``per_speed`` [s] a speed: :func:`_timed_response`'s)."""
+    speeds solved a peak (and :data:`EXACT_SPEED_SECONDS` each; ``call`` [s] a call, ``per_speed``
+    [s] a speed: :func:`_timed_response`'s)."""
     return float(EXACT_CALLS * (call + EXACT_CALL_SECONDS) * sum(1 for p in peaks if p)
-                 + EXACT_SPEEDS * per_speed * sum(peaks))
+                 + EXACT_SPEEDS * (per_speed + EXACT_SPEED_SECONDS) * sum(peaks))
 
 
 def _case_seconds(model, cases) -> float:

@@ -299,6 +299,11 @@ def _write(result, args, folder, kinds=None):
         write_csv(_in_units(result.to_dataframe(), kinds), args.table)
 
 
+#: said once on the terminal where a study's ``unbalance`` analysis gives AF (docs/study-file.md)
+SWEPT_AF = ("amplification_factor: read off the swept speeds (half-power points interpolated between them), "
+            "not searched on the exact response as `unbalance` and `report` do; a sharp peak needs fine speeds")
+
+
 def _report(result, band, kinds=None):
     failed = int(result.failed.sum())
     print(f"{result.n_variants} variants, {failed} failed"
@@ -307,6 +312,8 @@ def _report(result, band, kinds=None):
     if failed:
         first = int(np.flatnonzero(result.failed)[0])         # one text read, not every variant's
         print(f"first failure: {result.dataset['error'][first].values}", file=sys.stderr)
+    if "amplification_factor" in result.dataset:
+        print(SWEPT_AF, file=sys.stderr)
     table = result.summary()
     if len(table):
         table = _summary_in_units(_in_rpm(table), kinds)

@@ -464,6 +464,57 @@ PEAK_CALLS = 40
 #: ... and speeds solved per bracket of the case's rotor's line (measured 11-40 there, 29 on a case of
 #: the 60-rotor chain)
 PEAK_SPEEDS = 10
+#: the AF table's exact search (:func:`..analysis.unbalance_peaks.exact_peaks`: each swept peak's
+#: maximum and half-power points on the exact response): calls of the response a source (every
+#: peak's step in one call; measured 75 a case on examples/compressor_rotor.toml, 91 on
+#: flexible_pump_on_mounts, fan_on_bearings and gear_machine at 151 speeds) ...
+EXACT_CALLS = 90
+#: ... each call's work of Python outside the direct solve that :func:`_timed_response` times (the
+#: sources' forces and sensor rows of :func:`..analysis.unbalance._own_source_curve`, the search's
+#: own steps) [CPU s]: measured 0.1-1.5 ms a call (examples and the 10-rotor gear chain)
+EXACT_CALL_SECONDS = 3e-4
+#: ... and speeds solved a peak, the search's own skip rule's count
+#: (:data:`..analysis.unbalance_peaks._AF_CALLS`; measured 46-99 on the examples, 137-142 on the
+#: 10- and 20-rotor gear chains at 21 speeds), each the timed solve's speed and
+#: :data:`EXACT_SPEED_SECONDS` of Python (the curve's speed measured 1.3-4 times the timed one's:
+#: 10-40 us more). The peaks are not known before the run: :func:`_exact_peaks_bound` bounds them
+#: by the sensors times the modes met by the source's line in the sweep (measured 1.5-3 times the
+#: swept peaks on the examples, 2.5-4.4 on the gear chains, where each sensor sees a few modes)
+EXACT_SPEEDS = 60
+EXACT_SPEED_SECONDS = 2e-5
+
+
+def _line_crossings(model, x) -> np.ndarray:
+    """The undamped machine's positive frequencies at the sweep's middle speed, increasing
+    [rad/s] (:func:`..analysis._work._undamped_frequencies`; none where it has none): where one
+    meets a source's line ``ratio x`` inside the sweep ``x`` (S,) [rad/s] there is a bracket."""
+    from ..analysis import _work
+
+    frequencies = _work._undamped_frequencies(model, float(x[len(x) // 2]))
+    return np.zeros(0) if frequencies is None else np.sort(frequencies[frequencies > 0])
+
+
+def _exact_peaks_bound(model, inputs, frequencies=None) -> list:
+    """Each searched source's bound on the swept peaks the AF table's exact search refines
+    (:func:`..analysis.unbalance_peaks.exact_peaks`), in :func:`_searched_ratios`' order: the
+    sensors times the modes (``frequencies`` [rad/s], :func:`_line_crossings`'s, made here where
+    None) whose frequency meets the source's line inside the sweep (at most half the swept speeds
+    a curve: a swept peak is above both its neighbours), at most the peaks the search's
+    own skip lets run (``peaks * _AF_CALLS * n_dof^3 <= _WORK``: over it the AF read off the sweep,
+    so the search costs at most that); none for a large model (:func:`..assembly.is_large`)."""
+    from ..analysis.unbalance_peaks import _AF_CALLS, _WORK
+    from ..assembly import is_large
+
+    x = np.unique(np.abs(inputs.speeds))
+    ratios = _searched_ratios(model, inputs)
+    if not ratios or x.size < 3 or is_large(model) or not model.sensors:
+        return [0] * len(ratios)
+    frequencies = _line_crossings(model, x) if frequencies is None else frequencies
+    most = int(_WORK // (_AF_CALLS * float(model.dofs.n) ** 3))
+    sides = 1 + bool(np.any(np.asarray(inputs.speeds) < 0) and np.any(np.asarray(inputs.speeds) > 0))
+    per_curve = sides * ((x.size - 1) // 2)                # a swept peak is above both its neighbours
+    met = [int(np.count_nonzero((frequencies / r > x[0]) & (frequencies / r < x[-1]))) if r else 0 for r in ratios]
+    return [min(most, len(model.sensors) * min(m, per_curve)) for m in met]
 
 
 def _searched_ratios(model, inputs) -> list:
@@ -484,7 +535,6 @@ def _peak_search(model, inputs, n_states) -> tuple:
     one's halvings from the damping of the damped root of its rank there (:func:`_middle_roots`,
     :func:`_halvings`): the search solves every swept speed once a distinct ratio and each
     bracket's halvings."""
-    from ..analysis import _work
     from ..assembly import is_large
 
     x = np.unique(np.abs(inputs.speeds))
@@ -497,8 +547,7 @@ def _peak_search(model, inputs, n_states) -> tuple:
     if unbalance_peaks.not_looked_for(model, x, n_states=n_states):
         return 0.0, 0
     middle = float(x[len(x) // 2])
-    frequencies = _work._undamped_frequencies(model, middle)
-    frequencies = np.zeros(0) if frequencies is None else np.sort(frequencies[frequencies > 0])
+    frequencies = _line_crossings(model, x)
     roots = _middle_roots(model, middle)
     decay = -roots.real[np.argsort(roots.imag)]
     # by rank; no oscillating root there (or no matrix): HALVINGS a bracket
@@ -619,7 +668,9 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
       speed, the damped critical speeds it looks for (:func:`_peak_search`, eigenvalues alone)
       and each case's peaks refined between swept speeds (:data:`PEAK_CALLS` calls of the
       direct solve a case, :data:`PEAK_SPEEDS` speeds a bracket, timed on the model:
-      :func:`_timed_response`);
+      :func:`_timed_response`), and the AF table's exact search of each swept peak
+      (:func:`_exact_seconds`: the peaks bounded by :func:`_exact_peaks_bound`, the same rule as
+      the search's own skip);
     - the Level I sweep (:func:`..analysis.level1.sweep_solutions`, and :data:`LEVEL1_FOLLOWING`
       a value of Q).
 
@@ -635,8 +686,8 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     quick : bool
         A pessimistic bound [s] from the sizes alone instead (no timing, no matrices: every mode
         crossing every order line, :data:`.._cost._PESSIMISTIC` per cubed state, the Level I
-        sweep with :data:`_LEVEL1_EXTRA` more values, every mode a bracket of every source, twice
-        the seconds of the page and of the cases' set-up).
+        sweep with :data:`_LEVEL1_EXTRA` more values, every mode a bracket of every source and a
+        peak of every sensor, twice the seconds of the page and of the cases' set-up).
 
     Returns
     -------
@@ -656,6 +707,7 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
         grid = int(np.ceil(10 * 10 - 1e-9)) + 1 + _LEVEL1_EXTRA          # factor 10, 10 steps per Qa
         every = 2 * model.dofs.n * cases if "unbalance" in counts else 0        # every mode, every case's line
         search = (cases * points + HALVINGS * every) * _cost.EIGVALS_SHARE + (cases * PEAK_CALLS + PEAK_SPEEDS * every)
+        search += cases * EXACT_CALLS + EXACT_SPEEDS * every * len(model.sensors)      # the AF's exact search
         shares["ucs"] += UCS_SHARE * _ucs_refined(model)
         ucs = 2 * shares["ucs"]                                                 # and a map widened
         crossings = 2 * model.dofs.n * len(_work._line_slopes(model, (1,)))
@@ -682,18 +734,31 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
         what = "API unbalance cases" if inputs.standard != "iso" else "rotors unbalanced"
         search, brackets = _peak_search(model, inputs, campbell.n_states)
         seconds = (shares["unbalance"] + search * _cost.EIGVALS_SHARE) * eig + _case_seconds(model, cases)
-        if search:
+        exact, exact_seconds = _exact_peaks_bound(model, inputs), 0.0
+        if search or any(exact):
             call, per_speed = _timed_response(model, inputs.mcs)
-            seconds += cases * PEAK_CALLS * call + PEAK_SPEEDS * brackets * per_speed
+            seconds += (cases * PEAK_CALLS * call + PEAK_SPEEDS * brackets * per_speed) * bool(search)
+            exact_seconds = _exact_seconds(exact, call, per_speed)
         found = (f"; their damped critical speeds and peaks between speeds: {search:,.0f} eigenvalue solutions, "
                  f"{brackets:,} brackets") if search else ""
-        parts.append(("unbalance", seconds, f"{cases:,} {what} at {points:,} speeds{found}"))
+        found += f"; the AF's exact search: at most {sum(exact):,} peaks" if any(exact) else ""
+        parts.append(("unbalance", seconds + exact_seconds, f"{cases:,} {what} at {points:,} speeds{found}"))
     if level1:
         count = sweep_size(model, inputs.mcs, level1["stations"], level1["qa"], shares=level1.get("shares"))
         parts.append(("level1", (sweep_solutions(count) + LEVEL1_FOLLOWING * count) * eig, f"{count:,} values of Q"))
     page, figures = _render_seconds(model, inputs)
     parts.append(("page", page, f"{figures} figure sections drawn"))
     return ReportWork(campbell.n_dof, campbell.n_states, tuple(parts))
+
+
+def _exact_seconds(peaks, call, per_speed) -> float:
+    """CPU seconds [s] of the AF table's exact search (:func:`..analysis.unbalance_peaks.exact_peaks`)
+    of sources with ``peaks`` (:func:`_exact_peaks_bound`'s) each: :data:`EXACT_CALLS` calls of the
+    response a source that has any (and :data:`EXACT_CALL_SECONDS` each), :data:`EXACT_SPEEDS`
+    speeds solved a peak (and :data:`EXACT_SPEED_SECONDS` each; ``call`` [s] a call, ``per_speed``
+    [s] a speed: :func:`_timed_response`'s)."""
+    return float(EXACT_CALLS * (call + EXACT_CALL_SECONDS) * sum(1 for p in peaks if p)
+                 + EXACT_SPEEDS * (per_speed + EXACT_SPEED_SECONDS) * sum(peaks))
 
 
 def _case_seconds(model, cases) -> float:

@@ -19,7 +19,24 @@ from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest,
 from .modal import is_oscillating, modal, modal_quantities
 from .mode_numbers import numbers_at_speed
 
-__all__ = ["StabilityResult", "StabilityMap", "stability", "stability_map", "threshold_speeds"]
+__all__ = ["StabilityResult", "StabilityMap", "stability", "stability_map", "threshold_speeds", "unstable_intervals"]
+
+
+def unstable_intervals(starts_unstable: bool, thresholds, onsets) -> list:
+    """The intervals of speed where a sweep is unstable, from whether it is at its first speed and
+    its thresholds [rad/s] with their kinds (``onsets``: True where stability is lost, False where
+    regained): a list of (start, stop) [rad/s], start NaN when the sweep starts unstable, stop NaN
+    when it stays unstable to its end (:attr:`StabilityResult.unstable_intervals`)."""
+    intervals, start, open_ = [], float("nan"), bool(starts_unstable)
+    for speed, onset in sorted(zip(np.asarray(thresholds).tolist(), np.asarray(onsets).tolist())):
+        if onset and not open_:
+            start, open_ = speed, True
+        elif not onset and open_:
+            intervals.append((start, speed))
+            open_ = False
+    if open_:
+        intervals.append((start, float("nan")))
+    return intervals
 
 
 @dataclass(frozen=True)
@@ -127,17 +144,7 @@ class StabilityResult:
             unstable; ``stop`` where it is regained, or nan when it stays unstable to the
             sweep's end.
         """
-        intervals, start = [], float("nan")
-        open_ = bool(self.unstable[0])
-        for speed, onset in sorted(zip(self.thresholds.tolist(), self.threshold_onsets.tolist())):
-            if onset and not open_:
-                start, open_ = speed, True
-            elif not onset and open_:
-                intervals.append((start, speed))
-                open_ = False
-        if open_:
-            intervals.append((start, float("nan")))
-        return intervals
+        return unstable_intervals(bool(self.unstable[0]), self.thresholds, self.threshold_onsets)
 
     def least_damped(self):
         """The least damped mode over the sweep: the tracked mode and speed of the smallest log

@@ -1005,19 +1005,10 @@ def unstable_spans(result, thresholds, onsets, roundoff) -> list:
     """Intervals of speed [rad/s] where the sweep ``result`` is unstable, as
     :attr:`..analysis.stability.StabilityResult.unstable_intervals` (start NaN: unstable from the
     sweep's first speed; stop NaN: to its last)."""
-    from ..analysis.stability import _significant_real_parts
+    from ..analysis.stability import _significant_real_parts, unstable_intervals
 
     largest = _significant_real_parts(result.eigenvalues, roundoff=roundoff).max(axis=1, initial=-np.inf)
-    intervals, start, open_ = [], float("nan"), bool(largest[0] > 0)
-    for speed, onset in sorted(zip(np.asarray(thresholds).tolist(), np.asarray(onsets).tolist())):
-        if onset and not open_:
-            start, open_ = speed, True
-        elif not onset and open_:
-            intervals.append((start, speed))
-            open_ = False
-    if open_:
-        intervals.append((start, float("nan")))
-    return intervals
+    return unstable_intervals(largest[0] > 0, thresholds, onsets)
 
 
 def _stability(data):

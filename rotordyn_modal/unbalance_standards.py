@@ -17,7 +17,7 @@ __all__ = ["BALANCE_GRADES", "balance_grade", "permissible_unbalance", "api_unba
            "API_SI_CONSTANT", "API_US_CONSTANT", "API_ANALYSIS_MULTIPLE", "api_analysis_unbalance",
            "API_SCALE_CAP", "api_scale_factor", "api_probe_limit", "ISO_20816_3_ZONES",
            "iso_zone_boundaries", "iso_zones", "AMPLITUDES", "AMPLITUDE_WORDS", "amplitude_factor", "amplitude_label",
-           "amplitude_column", "one_convention"]
+           "amplitude_column", "one_convention", "required_separation_margin"]
 
 #: ISO 21940-11 balance quality grades G [mm/s] (G0.4 ... G4000)
 BALANCE_GRADES = (0.4, 1.0, 2.5, 6.3, 16.0, 40.0, 100.0, 250.0, 630.0, 1600.0, 4000.0)
@@ -221,3 +221,28 @@ def one_convention(table, amplitude: str):
     out = out.drop(columns=["amplitude"])
     out.insert(position, column, values)
     return out
+
+
+def required_separation_margin(af: float, position: str = "below") -> float:
+    """API 617 / API 684 required separation margin [%] for an amplification factor.
+
+    0 for AF < 2.5 (critically damped); otherwise, for a critical speed below the operating
+    range (a percentage of its low end) ``min(16, 17 (1 - 1 / (AF - 1.5)))``, above it (a
+    percentage of its high end) ``min(26, 10 + 17 (1 - 1 / (AF - 1.5)))`` (``docs/standards.md``).
+
+    Parameters
+    ----------
+    af : float
+        Amplification factor [-]; NaN gives NaN (not evaluated); ``inf`` the largest any AF
+        requires (16 below, 26 above).
+    position : {'below', 'above'}
+        Where the critical speed lies relative to the operating range.
+    """
+    if position not in ("below", "above"):
+        from .errors import InputError
+
+        raise InputError(f"separation margin position {position!r}: expected 'below' or 'above'")
+    if np.isnan(af) or af < 2.5:
+        return 0.0 if np.isfinite(af) else np.nan
+    margin = 17.0 * (1 - 1 / (af - 1.5))
+    return min(16.0, margin) if position == "below" else min(26.0, 10.0 + margin)

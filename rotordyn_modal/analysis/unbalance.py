@@ -31,7 +31,7 @@ from ..errors import InputError
 from ..linear_system import speed_linear_form
 from ..model.components import Sensor
 from ..model.geometry import cross, shift_matrices, transverse_axes
-from ..unbalance_standards import amplitude_column, amplitude_factor
+from ..unbalance_standards import amplitude_column, amplitude_factor, required_separation_margin
 from . import _arguments
 from .forces import COMPONENTS, centre_motions, all_forces
 from .frf import dof_response
@@ -508,13 +508,6 @@ class UnbalanceResult:
         return _clearance_planes(model, q, motions, len(sources), len(speeds))
 
     @staticmethod
-    def required_margin(af: float, position: str = "below") -> float:
-        """:func:`required_separation_margin` [%] (``af`` NaN or ``np.inf``: the largest any AF
-        requires); the separation margins call it through a result, so that they need not import
-        this module (which imports them)."""
-        return required_separation_margin(af, position)
-
-    @staticmethod
     def source_curve(model, outputs, quantity: str = "displacement"):
         """``curve(s, o, j)``: the response of ``model``'s sensor ``outputs[o[k]]`` to its source
         ``j[k]`` alone at the speed ``s[k]`` [rad/s], shape (K,), complex (the AF table's search's,
@@ -632,29 +625,6 @@ def _crossing(x, y, k, level, step):
     if not 0 <= j < len(y):
         return np.nan
     return x[i] + (level - y[i]) * (x[j] - x[i]) / (y[j] - y[i])
-
-
-def required_separation_margin(af: float, position: str = "below") -> float:
-    """API 617 / API 684 required separation margin [%] for an amplification factor.
-
-    0 for AF < 2.5 (critically damped); otherwise, for a critical speed below the operating
-    range (a percentage of its low end) ``min(16, 17 (1 - 1 / (AF - 1.5)))``, above it (a
-    percentage of its high end) ``min(26, 10 + 17 (1 - 1 / (AF - 1.5)))`` (``docs/standards.md``).
-
-    Parameters
-    ----------
-    af : float
-        Amplification factor [-]; NaN gives NaN (not evaluated); ``inf`` the largest any AF
-        requires (16 below, 26 above).
-    position : {'below', 'above'}
-        Where the critical speed lies relative to the operating range.
-    """
-    if position not in ("below", "above"):
-        raise InputError(f"separation margin position {position!r}: expected 'below' or 'above'")
-    if np.isnan(af) or af < 2.5:
-        return 0.0 if np.isfinite(af) else np.nan
-    margin = 17.0 * (1 - 1 / (af - 1.5))
-    return min(16.0, margin) if position == "below" else min(26.0, 10.0 + margin)
 
 
 def unbalance_response(model, speeds, outputs=None, quantity: str = "displacement",

@@ -27,7 +27,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..model import Model
-from ..unbalance_standards import api_analysis_unbalance, api_probe_limit, iso_zone_boundaries, iso_zones
+from ..unbalance_standards import (api_analysis_unbalance, api_probe_limit, iso_zone_boundaries, iso_zones,
+                                   required_separation_margin)
 
 __all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "sensor_groups", "separation_margins",
            "operating_range", "case_models", "AF_UNKNOWN"]
@@ -340,7 +341,7 @@ def separation_margins(result, operating, outputs=None, amplitude: str = "peak")
     # a peak above the range needs the margin of a critical speed above it (API 617)
     required = np.where(over, above["required_margin_pct"], below["required_margin_pct"]).astype(float)
     # an unknown AF: the margin against the largest any AF requires on its side (AF-independent)
-    largest = np.where(over, result.required_margin(np.inf, "above"), result.required_margin(np.inf, "below"))
+    largest = np.where(over, required_separation_margin(np.inf, "above"), required_separation_margin(np.inf, "below"))
     met = np.isnan(required) & (table["separation_margin_pct"].to_numpy(dtype=float) >= largest)
     table["required_margin_pct"] = np.where(met, largest, required)
     if outputs is not None:

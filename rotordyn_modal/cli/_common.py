@@ -840,10 +840,11 @@ def write_csv(table, path, float_format=CSV_FLOAT_FORMAT):
         table.to_csv(handle, index=False, float_format=float_format)
 
 
-def write_table(table, args, float_format=CSV_FLOAT_FORMAT, empty: str | None = None):
+def write_table(table, args, float_format=CSV_FLOAT_FORMAT, empty: str | None = None, shown=None):
     """Write a DataFrame to --out (atomic), or print it on the terminal (``empty``: the sentence
-    printed instead of a table without rows, see :func:`print_table`). A CSV has its header even
-    without rows, never a ``-0``."""
+    printed instead of a table without rows, see :func:`print_table`; ``shown``: the table the
+    terminal shows, when its words differ from the file's). A CSV has its header even without
+    rows, never a ``-0``."""
     out = getattr(args, "out", None)
     if out == "-":
         _without_negative_zeros(table).to_csv(sys.stdout, index=False, float_format=float_format)
@@ -852,7 +853,7 @@ def write_table(table, args, float_format=CSV_FLOAT_FORMAT, empty: str | None = 
         with atomic_write(out, "w", newline="") as handle:
             _without_negative_zeros(table).to_csv(handle, index=False, float_format=float_format)
     if out != "-" and not args.quiet:
-        print_table(table, empty)
+        print_table(table if shown is None else shown, empty)
 
 
 _TERMINAL_ROWS = 40

@@ -11,7 +11,7 @@ from ..io.outline import read_outline
 from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
                       add_speed_unit, check_extra_output, open_model, save_figure, show_progress, speed_value, use_agg,
-                      undamped_zeros, whole_number, write_table, print_table)
+                      undamped_zeros, whole_number, write_table)
 
 NAME = "modes"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
@@ -72,14 +72,9 @@ def _write_modes(table, args, empty: str):
     """The modes table: the CSV (--out) with its documented whirl values (forward, backward, none:
     scripts read them), the terminal's whirl in the words of the figures and the report ('no
     whirl' for none)."""
-    import argparse
-
-    write_table(table, argparse.Namespace(**{**vars(args), "quiet": True}), empty=empty)
-    if getattr(args, "out", None) != "-" and not args.quiet:
-        shown = table.copy()
-        shown["whirl"] = shown["whirl"].replace({"none": "no whirl"})
-        shown.attrs = dict(table.attrs)
-        print_table(shown, empty)
+    shown = table.copy()                           # its attrs (the round-off marks) too
+    shown["whirl"] = shown["whirl"].replace({"none": "no whirl"})
+    write_table(table, args, empty=empty, shown=shown)
 
 
 _ANIMATION_ENDINGS = (".gif", ".html", ".mp4")

@@ -22,7 +22,9 @@ from ..units import speed_to_rad_s as to_rad_s
 #: options that take a value which may start with '-' (a negative speed or range)
 VALUE_OPTIONS = ("--speed", "--speeds", "--values", "--scale", "--freqs", "--orders", "--impulse",
                  "--ramp", "--duration", "--power", "--freq-range", "--operating-range", "--operating",
-                 "--speed-band", "--freq-band", "--band", "--transmitted-power", "--rated-power")
+                 "--speed-band", "--freq-band", "--band", "--transmitted-power", "--rated-power",
+                 "--stiffness", "--qa", "--gas-density", "--impeller-diameter", "--restriction-height",
+                 "--density-ratio")
 
 
 def join_negative_values(argv, options):

@@ -201,6 +201,7 @@ def check_writable(path) -> None:
         raise OutputError(f"{shown}: the folder {path.parent} does not exist")
     if not path.parent.is_dir():
         raise OutputError(f"cannot write {shown}: {path.parent} is not a folder")
+    _check_not_read_only(shown, path)
     try:
         fd, probe = tempfile.mkstemp(prefix=_temporary_prefix(path), suffix=".probe", dir=path.parent)
     except OSError as error:
@@ -208,6 +209,29 @@ def check_writable(path) -> None:
     os.close(fd)
     with contextlib.suppress(OSError):
         os.unlink(probe)
+
+
+def _check_not_read_only(shown, path: Path) -> None:
+    """Refuse an existing file without write permission: the rename of a finished write would
+    replace it (a folder that takes new files lets it), where ``>`` or ``cp`` say "Permission
+    denied". Read-only is its mode without any write bit (as root, who may write anything, sees
+    it too) or one the user may not write (``os.access``)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return                                  # not there yet: the write creates it
+    if stat.S_ISREG(mode) and (not mode & 0o222 or not os.access(path, os.W_OK)):
+        raise OutputError(f"cannot write {shown}: the file is read-only (no write permission; make it writable "
+                          "or remove it to replace it, or give another name)")
+
+
+def _existing_mode(path: Path, default: int) -> int:
+    """The permission bits of the file a write replaces (a private 0600 file stays private), else
+    ``default``."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        return default
 
 
 def remove_stale_temporaries(path) -> list:
@@ -377,7 +401,7 @@ def atomic_write(path, mode: str = "w", together: bool = True, tidy: bool = True
                 yield handle
                 handle.flush()
                 os.fsync(handle.fileno())  # a full disk may only say so here
-        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual mode
+        os.chmod(temporary, _existing_mode(path, 0o666 & ~_umask()))  # mkstemp makes 0600: the usual mode, or the replaced file's
         if together and _BATCH[0] is not None:
             _BATCH[0].pending.append((temporary, path, shown))
         else:

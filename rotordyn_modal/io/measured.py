@@ -241,6 +241,42 @@ def _check_column(table, column, name, path, valid, expected) -> None:
                          f"row(s)): expected {expected}")
 
 
+#: how far a CSV's magnitude [relative] and phase [deg] may stray from its real and imag columns
+#: (a spreadsheet's rounding to 3 or 4 digits passes; an edited or rescaled column does not)
+_POLAR_AGREEMENT = (1e-2, 1.0)
+
+
+def _check_polar_agrees(table, column, values, path) -> None:
+    """Refuse a CSV whose ``magnitude`` (and ``phase_deg``) columns, given beside ``real`` and
+    ``imag`` (as ``frf --out`` writes them), say another FRF: the file would be read by its real
+    and imag columns alone, an edited magnitude passed over without a word."""
+    if "magnitude" not in column:
+        return
+    relative, degrees = _POLAR_AGREEMENT
+    size = np.abs(values)
+    magnitude = column["magnitude"]
+    with np.errstate(invalid="ignore"):
+        bad = np.isfinite(magnitude) & ~(np.abs(magnitude - size) <= relative * np.maximum(size, np.abs(magnitude)))
+        what = "|real + i imag|"
+        if "phase_deg" in column and not bad.any():
+            turn = np.angle(values, deg=True) - column["phase_deg"]
+            bad = (size > 0) & np.isfinite(turn) & ~(np.abs((turn + 180.0) % 360.0 - 180.0) <= degrees)
+            what = "the phase of real + i imag"
+    if not bad.any():
+        return
+    from .csv_tables import file_line
+
+    first = int(np.flatnonzero(bad)[0])
+    row = table.iloc[first]
+    name, given = ("magnitude", magnitude) if what.startswith("|") else ("phase_deg", column["phase_deg"])
+    said = size[first] if name == "magnitude" else np.angle(values[first], deg=True)
+    raise InputError(f"{path}: {name} = {given[first]:g} in data row {first + 1} (line {file_line(table, first)}, "
+                     f"{row.get('output', '?')} / {row.get('input', '?')} at {column['frequency_hz'][first]:g} Hz; "
+                     f"{int(bad.sum())} such row(s)): expected {what} = {said:g}, as its real and imag columns "
+                     f"give it (within {relative:g} relative, {degrees:g} deg): the two say different FRFs; keep "
+                     "real,imag or magnitude,phase_deg")
+
+
 def _universal_hint(table) -> str:
     """What to add to a CSV refusal whose header is a Universal File's first line (``    -1``):
     such a file named .csv or .txt was refused as "found -1", naming no format."""
@@ -309,6 +345,7 @@ def read_csv(path, model) -> list[FRFResult]:
         _check_column(table, column, name, path, lambda x: np.isfinite(x), "a finite number")
     if parts[0] == "real":
         values = column["real"] + 1j * column["imag"]
+        _check_polar_agrees(table, column, values, path)
     else:   # a level in dB is negative: read as a linear magnitude it would be a wrong FRF
         _check_column(table, column, "magnitude", path, lambda x: x >= 0,
                       "a magnitude >= 0 (a linear FRF, not a level in dB)")

@@ -10,7 +10,10 @@ from __future__ import annotations
 from ..errors import InputError
 from ..model._table import visible_names
 
-__all__ = ["read_outline"]
+__all__ = ["read_outline", "outline_scale_words"]
+
+#: an outline this many times wider than the machine it draws was most likely typed in another unit
+_WIDER = 30.0
 
 _COLUMNS = ("x", "y", "z")
 _LENGTHS = "m, cm, mm, um, in, mil or ft"
@@ -112,3 +115,28 @@ def _columns(table, path):
                              f"(or no unit: metres)")
         found[name] = (cell, parsed[0])
     return found
+
+
+def outline_scale_words(points, machine_size: float, path) -> str | None:
+    """The warning for an outline far wider than the machine (a drawing's millimetres or inches
+    read as metres, no unit in its header: the machine shrinks to a dot in the figure), else None.
+
+    Parameters
+    ----------
+    points : ndarray, shape (n, 3)
+        :func:`read_outline`'s points [m] (NaN rows between lines).
+    machine_size : float
+        The largest extent of the machine's own drawing [m] (bodies, mounts, bearings).
+    path : path-like
+        The file, for the words.
+    """
+    import numpy as np
+
+    drawn = np.asarray(points, float)
+    drawn = drawn[~np.isnan(drawn).any(axis=1)]
+    size = float(np.max(np.ptp(drawn, axis=0))) if len(drawn) else 0.0
+    if not machine_size > 0 or not size > _WIDER * machine_size:
+        return None
+    return (f"{path}: the outline spans {size:.4g} m, {size / machine_size:.3g} times the machine it draws "
+            f"({machine_size:.4g} m: its bodies, mounts and bearings); coordinates in mm or inches read as metres? "
+            "(a unit in the header converts them: 'x [mm]', 'y [in]')")

@@ -10,6 +10,8 @@ failed on main before its fix.
    no value; now each option's own check names it.
 4. A stator outline in millimetres without a unit in its header drew the machine as a dot,
    without a word; now one warning line says the outline's span against the machine's.
+5. ``estimate_frf`` on time records whose force channel recorded nothing, or with one force
+   channel given twice (a repeated channel), died in numpy ("Singular matrix").
 """
 
 from __future__ import annotations
@@ -142,3 +144,47 @@ def test_an_outline_in_millimetres_without_its_unit_warns(fan, tmp_path, header,
     assert len(said) == int(warned)
     if warned:   # 1000 m against the skid's 0.84 m (its mounts 0.8 x 0.6 m apart, the stator box)
         assert "skid.csv" in said[0] and "1000 m" in said[0] and "mm" in said[0]
+
+
+# ------------------------------------------------------------------ 5. FRFs from silent or repeated forces
+
+def _impact_records(force_channels):
+    """One impact test: a decaying 30 Hz response in g and the given force signals [N]."""
+    rate = 1024.0
+    t = np.arange(1024) / rate
+    response = np.exp(-5 * t) * np.sin(2 * np.pi * 30 * t)
+    signals = np.vstack([response] + list(force_channels))[None]
+    names = ("acc",) + tuple(f"force{k}" for k in range(len(force_channels)))
+    return rdm.TimeRecords(signals, rate, names, ("acceleration",) + ("force",) * len(force_channels))
+
+
+def _hit():
+    hit = np.zeros(1024)
+    hit[:3] = [50.0, 100.0, 50.0]
+    return hit
+
+
+@pytest.mark.parametrize("forces, inputs, said", [
+    ([np.zeros(1024)], ["force0"], "force0: 0 N in every sample"),
+    ([_hit(), _hit()], ["force0", "force1"], "singular"),
+])
+def test_frfs_from_a_silent_or_repeated_force_are_refused_by_name(forces, inputs, said):
+    records = _impact_records(forces)
+    with pytest.raises(InputError) as info:
+        rdm.estimate_frf(records, inputs, ["acc"], impacts=False)
+    assert said in str(info.value) and "\n" not in str(info.value)
+
+
+def test_a_hit_without_force_at_one_line_gives_the_frf_at_the_others():
+    """A sampled symmetric hit (50, 100, 50 N) has no force at the Nyquist line (1 - 2 + 1 = 0):
+    main died there ("Singular matrix"); now that line is left out with a warning and every
+    other line is H1 = X / F of the single record's spectra (closed form, no averaging)."""
+    hit = _hit()
+    records = _impact_records([hit])
+    with pytest.warns(UserWarning, match="no FRF at 1 frequency line"):
+        frf = rdm.estimate_frf(records, ["force0"], ["acc"], impacts=False)
+    lines = np.fft.rfftfreq(1024, 1 / 1024.0)
+    x, f = np.fft.rfft(records.signals[0, 0])[1:-1], np.fft.rfft(hit)[1:-1]
+    np.testing.assert_array_equal(frf.frequencies_hz, lines[1:-1])      # no 0 Hz, no 512 Hz
+    assert frf.quantity == "accelerance"
+    np.testing.assert_allclose(frf.H[0, 0], x / f, rtol=1e-9)

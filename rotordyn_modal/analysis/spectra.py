@@ -189,15 +189,54 @@ def estimate_frf(records, inputs, outputs, estimator: str = "H1", segment_s: flo
     kwargs = dict(fs=fs, window=window, nperseg=n, noverlap=int(overlap * n) if segment_s else 0,
                   detrend="constant" if segment_s else False, axis=-1)
     f_sig, x_sig = records.select(inputs), records.select(outputs)
+    _check_forces_recorded(f_sig, inputs)
     freqs, S_ff = csd(f_sig[:, :, None, :], f_sig[:, None, :, :], **kwargs)
     _, S_fx = csd(f_sig[:, :, None, :], x_sig[:, None, :, :], **kwargs)
     _, S_xx = csd(x_sig, x_sig, **kwargs)
     S_ff, S_fx, S_xx = S_ff.mean(axis=0), S_fx.mean(axis=0), S_xx.real.mean(axis=0)
-    H, coherence = _h1(S_ff, S_fx, S_xx) if estimator == "H1" else _h2(S_ff, S_fx, S_xx)
     keep = freqs > 0 if band_hz is None else (freqs >= band_hz[0]) & (freqs <= band_hz[1])
-    return FRFResult(H=H[..., keep], frequencies_hz=freqs[keep], speed=records.speed, inputs=tuple(inputs),
-                     outputs=tuple(outputs), quantity=quantity, engine=estimator,
-                     coherence=coherence[..., keep])
+    keep = _forced_lines(S_ff, freqs, keep, inputs)
+    S_ff, S_fx, S_xx, freqs = S_ff[..., keep], S_fx[..., keep], S_xx[..., keep], freqs[keep]
+    H, coherence = _h1(S_ff, S_fx, S_xx) if estimator == "H1" else _h2(S_ff, S_fx, S_xx)
+    return FRFResult(H=H, frequencies_hz=freqs, speed=records.speed, inputs=tuple(inputs),
+                     outputs=tuple(outputs), quantity=quantity, engine=estimator, coherence=coherence)
+
+
+def _check_forces_recorded(f_sig, inputs) -> None:
+    """Refuse an input channel that is 0 in every sample of every record (a hammer or shaker
+    channel that recorded nothing): no force to divide by (was numpy's "Singular matrix").
+
+    ``f_sig``: the inputs' signals, shape (records, inputs, samples)."""
+    silent = [name for k, name in enumerate(inputs) if not np.any(f_sig[:, k, :])]
+    if silent:
+        raise InputError(f"input {', '.join(silent)}: 0 N in every sample of every record: expected a recorded "
+                         "force to estimate FRFs from (a channel that did not record, or the wrong channel?)")
+
+
+def _forced_lines(S_ff, freqs, keep, inputs):
+    """``keep`` without the frequency lines where the inputs' cross-spectral matrix is singular
+    (no force there, as a sampled symmetric hit at the Nyquist line; the FRF is undefined; was
+    numpy's "Singular matrix"), said in a warning; refused when no line is left (two inputs
+    recording one force, the same channel twice).
+
+    ``S_ff``: shape (inputs, inputs, lines); ``freqs``, ``keep``: shape (lines,)."""
+    import warnings
+
+    from ..errors import ModelWarning
+
+    singular = np.linalg.matrix_rank(np.moveaxis(S_ff, -1, 0), hermitian=True) < S_ff.shape[0]
+    if keep.any() and singular[keep].all():
+        raise InputError(f"inputs {', '.join(inputs)}: their cross-spectral matrix is singular at every "
+                         "frequency line (two inputs recording one force, or one channel given twice): "
+                         "expected independent forces, or estimate each input's FRFs from the records of its "
+                         "own excitation")
+    dropped = keep & singular
+    if dropped.any():
+        warnings.warn(f"estimate_frf: no FRF at {int(dropped.sum())} frequency line(s) where the inputs "
+                      f"{', '.join(inputs)} carry no force (a singular cross-spectral matrix): "
+                      f"{', '.join(f'{f:g}' for f in freqs[dropped][:5])}{' ...' if dropped.sum() > 5 else ''} Hz, "
+                      "left out", ModelWarning, stacklevel=3)
+    return keep & ~singular
 
 
 def _response_quantity(records, outputs):

@@ -12,6 +12,9 @@ failed on main before its fix.
    without a word; now one warning line says the outline's span against the machine's.
 5. ``estimate_frf`` on time records whose force channel recorded nothing, or with one force
    channel given twice (a repeated channel), died in numpy ("Singular matrix").
+6. A TDMS group with a ``Time`` channel in s (as LabVIEW exports write it) or a tachometer in
+   rpm beside its signals was refused as a whole ("declare it as acceleration"); those channels
+   are now left out with a warning.
 """
 
 from __future__ import annotations
@@ -188,3 +191,28 @@ def test_a_hit_without_force_at_one_line_gives_the_frf_at_the_others():
     np.testing.assert_array_equal(frf.frequencies_hz, lines[1:-1])      # no 0 Hz, no 512 Hz
     assert frf.quantity == "accelerance"
     np.testing.assert_allclose(frf.H[0, 0], x / f, rtol=1e-9)
+
+
+# ------------------------------------------------------------------ 6. TDMS with a time axis channel
+
+@pytest.mark.parametrize("name, unit", [("Time", "s"), ("tacho", "rpm")])
+def test_a_tdms_time_or_speed_channel_is_left_out_of_the_record(tmp_path, name, unit):
+    nptdms = pytest.importorskip("nptdms")
+    rate = 1024.0
+    t = np.arange(1024) / rate
+    acc = np.exp(-5 * t) * np.sin(2 * np.pi * 30 * t)
+
+    def channel(label, data, unit_string):
+        return nptdms.ChannelObject("run", label, data, properties={"unit_string": unit_string,
+                                                                    "wf_increment": 1 / rate})
+
+    path = tmp_path / "hit.tdms"
+    with nptdms.TdmsWriter(str(path)) as writer:
+        writer.write_segment([nptdms.GroupObject("run"), channel(name, t if unit == "s" else np.full(1024, 3000.0),
+                                                                 unit), channel("acc", acc, "g"),
+                              channel("ham", _hit(), "N")])
+    with pytest.warns(UserWarning, match=f"left out '{name}' \\({unit}"):
+        records = rdm.read_tdms_records(path)
+    assert records.channels == ("acc", "ham") and records.quantities == ("acceleration", "force")
+    np.testing.assert_allclose(records.signals[0, 0], acc * 9.80665, rtol=1e-15)   # g -> m/s^2
+    np.testing.assert_array_equal(records.signals[0, 1], _hit())

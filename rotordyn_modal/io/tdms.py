@@ -81,6 +81,8 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
     broken = next((n for n in names if line_break_problem(n)), None)
     if broken is not None:   # a tab or line break splits the spectra's tables and figure legends
         raise InputError(f"{path}: channel name {broken!r}: expected {line_break_problem(broken)}")
+    if channels is None:
+        names = _measured_channels(available, names, known, path)
     twice = [n for i, n in enumerate(names) if n in names[:i]]
     if twice:   # the same samples read as two channels, without a word
         raise InputError(f"{path}: channels = {visible_names(names)}: expected each channel once ({visible(twice[0])} "
@@ -99,7 +101,9 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
         if read is None or read[0] not in _QUANTITIES:
             raise InputError(f"{path}: channel {name!r} has unit {unit!r}: expected a unit of force, displacement, "
                              f"velocity, acceleration or pressure (e.g. {', '.join(SI_UNITS)}, g, mm/s), or declare "
-                             f"it, e.g. units={{{unit!r}: ('acceleration', factor to SI)}}")
+                             f"it, e.g. units={{{unit!r}: ('acceleration', factor to SI)}}"
+                             + (", or read the others only: channels=[...]" if channels is None and len(names) > 1
+                                else ""))
         quantity, factor = read
         signals.append(_samples(channel, path) * float(factor))
         quantities.append(quantity)
@@ -117,6 +121,41 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
                          "time record of at least 2 samples")
     return TimeRecords(signals=np.stack(signals)[None], sampling_rate_hz=1.0 / steps.pop(), channels=tuple(names),
                        quantities=tuple(quantities), speed=float(speed))
+
+
+#: units of a group's channels that are no measurement of the record: its time axis, a tachometer's
+#: speed, an angle (LabVIEW exports write a ``Time`` channel in s beside the signals)
+_AXIS_UNITS = {"rpm": "a speed", "rev/min": "a speed", "r/min": "a speed", "1/min": "a speed", "hz": "a frequency",
+               "deg": "an angle", "°": "an angle", "degree": "an angle", "degrees": "an angle", "rad": "an angle"}
+
+
+def _axis_word(unit: str):
+    """What a channel of ``unit`` is when it is no measurement (``'a time axis'``), else None."""
+    from .unit_labels import parse_unit
+
+    parsed = parse_unit(unit)
+    if parsed is not None and tuple(parsed[1]) == (0, 0, 1):
+        return "a time axis"
+    return _AXIS_UNITS.get(unit.strip().lower())
+
+
+def _measured_channels(available, names, known, path) -> list:
+    """``names`` (every channel of the group) without the channels of a time axis, speed or
+    angle, left out with a warning naming them (was: the whole group refused by the first); all
+    of them when nothing else is left (refused then by the unit check)."""
+    import warnings
+
+    axes = {}
+    for name in names:
+        unit = str(available[name].properties.get("unit_string", "")).strip()
+        if not (known.get(unit) or quantity_of(unit)) and _axis_word(unit):
+            axes[name] = f"{name!r} ({unit}: {_axis_word(unit)})"
+    kept = [n for n in names if n not in axes]
+    if not axes or not kept:
+        return names
+    warnings.warn(f"{path}: read the channels {visible_names(kept)}; left out {', '.join(axes.values())}, no "
+                  "measurement of the record (channels= chooses them)", stacklevel=3)
+    return kept
 
 
 def declared_units(units, path) -> dict:

@@ -15,11 +15,12 @@ failed on main before its fix.
 6. A TDMS group with a ``Time`` channel in s (as LabVIEW exports write it) or a tachometer in
    rpm beside its signals was refused as a whole ("declare it as acceleration"); those channels
    are now left out with a warning.
+7. A plain journal bearing's ``diameter`` typed in mm (50 for 50 mm) was read as a 50 m journal
+   without a word, as a shaft's outer_diameter is not.
 """
 
 from __future__ import annotations
 
-import os
 import shutil
 import stat
 
@@ -216,3 +217,24 @@ def test_a_tdms_time_or_speed_channel_is_left_out_of_the_record(tmp_path, name, 
     assert records.channels == ("acc", "ham") and records.quantities == ("acceleration", "force")
     np.testing.assert_allclose(records.signals[0, 0], acc * 9.80665, rtol=1e-15)   # g -> m/s^2
     np.testing.assert_array_equal(records.signals[0, 1], _hit())
+
+
+# ------------------------------------------------------------------ 7. a journal's diameter in mm
+
+def test_a_journal_diameter_in_millimetres_warns(examples_dir, tmp_path):
+    text = (examples_dir / "journal_rotor.toml").read_text(encoding="utf-8")
+    path = tmp_path / "journal_mm.toml"
+    path.write_text(text.replace("diameter = 0.05 ", "diameter = 50.0 ", 1), encoding="utf-8")
+    with pytest.warns(UserWarning) as caught:
+        rdm.load_model(path)
+    said = [str(w.message) for w in caught if "journal over 10 m" in str(w.message)]
+    assert len(said) == 1 and "[bearings.DE] diameter = 50" in said[0] and "mm" in said[0]
+
+
+def test_the_journal_example_draws_no_diameter_warning(examples_dir):
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        rdm.load_model(examples_dir / "journal_rotor.toml")
+    assert not [w for w in caught if "journal over" in str(w.message)]

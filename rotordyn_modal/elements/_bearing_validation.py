@@ -20,7 +20,8 @@ from .bearings import BearingCoefficients, JournalData, local_to_model
 from .journal_bearing import JournalLoadOverSpeed
 from ..model.components import Bearing, Pedestal, input_keys, is_finite_number
 from ..errors import ModelError, ModelWarning
-from ..model.flexible import POSITION_ROUND_OFF, lateral_basis, node_matrices, station_z, with_mesh
+from ..model.flexible import (PLAUSIBLE_SHAFT_DIAMETER, POSITION_ROUND_OFF, lateral_basis, node_matrices, station_z,
+                              with_mesh)
 from ..model.geometry import shift_matrix, transverse_axes
 
 __all__ = ["bearings", "check_frame", "journal_load_shares", "continuous_beam_loads", "LONGEST_JOURNAL",
@@ -256,6 +257,10 @@ def _with_journal_load(bearing: Bearing, tables, every, rotors, e, gravity) -> B
         return bearing
     table = tables[bearing.name]
     diameter = table.number("diameter", required=True, positive=True)
+    if diameter > PLAUSIBLE_SHAFT_DIAMETER:   # its film coefficients follow from it without a word
+        warnings.warn(f"{table.source}: [{table.label}] diameter = {diameter:g}: a journal over "
+                      f"{PLAUSIBLE_SHAFT_DIAMETER:g} m across; a diameter in mm typed for m? (model files are SI)",
+                      ModelWarning, stacklevel=2)
     clearance = table.number("clearance", required=True, positive=True)
     if not clearance < 0.5 * diameter:
         raise table.error("clearance", clearance, f"a radial clearance smaller than the journal's "

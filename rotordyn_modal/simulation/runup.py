@@ -537,16 +537,16 @@ def shade_causes(result, track, critical=None) -> list:
     causes, lags, fast, rung = [], {}, [], {}
     drive = np.asarray(result.drive_speed, dtype=float)
     time = np.asarray(getattr(result, "time", ()), dtype=float)
-    ratio = result.speed_ratios[list(result.rotor_names).index(track.rotor)]
-    per_speed = abs(ratio * track.order) / (2 * np.pi)        # the track's frequency per reference speed [Hz s/rad]
-    if critical is not None and spans and per_speed > 0 and len(time) == len(drive) > 1 and time[-1] > time[0]:
+    if critical is not None and spans and len(time) == len(drive) > 1 and time[-1] > time[0]:
         acceleration = (drive[-1] - drive[0]) / (time[-1] - time[0])
+        ratio = result.speed_ratios[list(result.rotor_names).index(track.rotor)]
+        per_speed = abs(ratio * track.order) / (2 * np.pi)    # the track's frequency per reference speed [Hz s/rad]
         for k in np.argsort(critical.speeds):
             speed, f, zeta = critical.speeds[k], critical.frequencies_hz[k], critical.damping_ratios[k]
             if not (np.isfinite(f) and np.isfinite(zeta) and f > 0 and zeta > 0 and speed != 0):
                 continue
             sweep = abs(f / speed * acceleration)     # the crossing order line's sweep [Hz/s]
-            seen = f / per_speed                      # where the track's own frequency is f [rad/s]
+            seen = f / per_speed if per_speed > 0 else np.inf      # where the track's frequency is f [rad/s]
             if sweep <= SLOW_PASSAGE * (zeta * f) ** 2 or not any(low <= seen <= high for low, high in spans):
                 continue
             lag = quasi_static_deviation(sweep, f, zeta)

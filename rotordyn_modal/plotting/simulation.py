@@ -235,7 +235,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         if steady and rotor in steady:
             amplitude_ax.plot(steady[rotor].speeds * rpm, steady[rotor].amplitude * scale, "--", lw=1.0,
                               color=drawn[0].get_color(), gid=f"steady-{rotor}",
-                              label=f"1X {rotor}, steady (linear unbalance response)")
+                              label=f"1X {rotor}, steady (linear)")
         notes += _unknown_phase_note(track, result.rotor_names, drawn[0].get_color())
         spans = unsettled_spans(result, track, critical)
         causes = shade_causes(result, track, critical)
@@ -256,6 +256,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         # cross every place) drove it onto the tracks
         _legend_below(axis, axis.get_lines() + (notes if axis is phase_ax else []))
         axis.set_xlim(axes[0, 0].get_xlim())            # the run's speeds, as the signal's panel
+    _taller_for_legend(fig, phase_ax)
     _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor,
                     (scale, unit))
     fig.suptitle(title or f"Run-up of {result.model_name or 'the machine'}")
@@ -270,6 +271,28 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
                 axis.axvline(speed * rpm, color="tab:red", lw=0.7, ls="--", label="_critical")
         _label_critical_lines([amplitude_ax, phase_ax, axes[0, 0]], critical, laid_out_renderer(fig))
     return fig
+
+
+#: lines of text the phase panel's legend column may hold before the run-up figure grows taller
+#: (two notes of two lines each: the legend's height the figure's 8.5 in were laid out for)
+_LEGEND_LINES = 4
+
+
+def _taller_for_legend(fig, ax):
+    """Make ``fig`` taller by the lines of ``ax``'s legend's tallest column beyond
+    :data:`_LEGEND_LINES` (at its font's line spacing): otherwise constrained layout takes them
+    from the panels, and the amplitude panel's label ran past the figure's top (the shade's notes
+    naming their causes, motor_pump_on_mounts: 12 lines)."""
+    legend = ax.get_legend()
+    if legend is None or not legend.get_texts():
+        return
+    texts = [t.get_text() for t in legend.get_texts()]
+    # the columns as matplotlib fills them (np.array_split), in :func:`_legend_below`'s count
+    columns = np.array_split(np.arange(len(texts)), min(len(texts), 2))
+    tallest = max(sum(texts[k].count("\n") + 1 for k in column) for column in columns)
+    if tallest > _LEGEND_LINES:
+        size = legend.get_texts()[0].get_fontsize()
+        fig.set_figheight(fig.get_figheight() + (tallest - _LEGEND_LINES) * 1.25 * size / 72.0)
 
 
 def _shade_unsettled(axes, spans, rotor, color, rpm, causes=()):

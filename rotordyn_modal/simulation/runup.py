@@ -515,7 +515,7 @@ def shade_causes(result, track, critical=None) -> list:
       mode's own resonant peak (a mode the sensor hardly sees moves the track little); beyond
       :data:`FAST_PASSAGE`, ``'fast passage of modes 1-3: lag, ringing'``;
     * another rotor's (or order's) fast passage, where the track's frequency is the mode's in a
-      shaded span: ``"modes 3-6 ringing after 1X pump's passage"`` (:func:`passage_spans`);
+      shaded span: ``"modes 3-6 rung by 1X pump's passage"`` (:func:`passage_spans`);
     * the track's :func:`unsettled` windows: ``'unsettled windows (start transient, ringing)'``.
 
     Parameters
@@ -563,7 +563,7 @@ def shade_causes(result, track, critical=None) -> list:
                       + ("the mode's" if len(lags) == 1 else "each mode's") + " peak)")
     if fast:
         causes.append(f"fast passage of {_modes_text(fast)}: lag, ringing")
-    causes += [f"{_modes_text(modes)} ringing after {name}'s passage" for name, modes in rung.items()]
+    causes += [f"{_modes_text(modes)} rung by {name}'s passage" for name, modes in rung.items()]
     if getattr(track, "unsettled", None) is not None and np.any(track.unsettled):
         causes.append("unsettled windows (start transient, ringing)")
     return causes

@@ -177,7 +177,7 @@ def test_the_run_up_legend_notes_leave_the_panels_their_width():
     from rotordyn_modal.plotting.simulation import plot_runup
 
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore")             # the run-up's own 'not separable' warning
+        warnings.simplefilter("ignore")             # the run-up's own 'may differ from the steady response' warning
         fig = plot_runup(_two_rotor_run_up(), "s")
     fig.set_dpi(150)
     fig.canvas.draw()
@@ -186,7 +186,7 @@ def test_the_run_up_legend_notes_leave_the_panels_their_width():
     assert len(panels) == 4
     phase = next(ax for ax in panels if ax.get_title() == "Order-tracked phase")
     texts = [t.get_text() for t in phase.get_legend().get_texts()]
-    assert any("not separable" in t for t in texts) and any("phase unknown" in t for t in texts), texts
+    assert any("may differ from the steady response" in t for t in texts) and any("phase unknown" in t for t in texts), texts
     left = [ax for ax in panels if ax.get_position().x0 < 0.5]
     right = [ax for ax in panels if ax.get_position().x0 >= 0.5]
     width = fig.bbox.width

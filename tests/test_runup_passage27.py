@@ -74,7 +74,7 @@ def _crossing():
 
 
 def _marked(record, track, critical):
-    """Where the figure marks the track as not separable (none on main, which has no marks)."""
+    """Where the figure marks the track as off the steady response (none on main, which has no marks)."""
     spans = getattr(runup, "unsettled_spans", lambda *args: [])(record, track, critical)
     inside = np.zeros(len(track.speeds), dtype=bool)
     for low, high in spans:
@@ -126,7 +126,7 @@ def test_the_figure_shades_the_span_and_says_it_in_one_warning(tmp_path):
     with warnings.catch_warnings(record=True) as held:
         warnings.simplefilter("always")
         fig = figures.plot_runup(record, "s", critical=_crossing())
-    lines = [str(w.message) for w in held if "not separable" in str(w.message)]
+    lines = [str(w.message) for w in held if "may differ from the steady response" in str(w.message)]
     assert len(lines) == 1 and "\n" not in lines[0] and "1X r at " in lines[0] and "rpm" in lines[0], lines
     track = order_track(record, "s")
     _, spans = _marked(record, track, _crossing())
@@ -138,7 +138,7 @@ def test_the_figure_shades_the_span_and_says_it_in_one_warning(tmp_path):
                     for p in shaded)
         assert xs == [(round(low * 30 / np.pi, 3), round(high * 30 / np.pi, 3)) for low, high in spans], xs
     labels = [text.get_text() for text in phase_ax.get_legend().get_texts()]
-    assert any("not separable" in label for label in labels), labels
+    assert any("may differ from the steady response" in label for label in labels), labels
     fig.savefig(tmp_path / "runup.png")
 
 

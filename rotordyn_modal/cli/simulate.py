@@ -41,7 +41,8 @@ refused (exit 2), since it has no time-domain meaning.
 --plot draws the time histories (path of the rotors' centres, transverse rotation of the
 stator and of each rotor in its bearings, axial angular velocity, energy terms) or, with
 --ramp, the run-up figures: the sensor's signal, its order-tracked (1X) amplitude and phase
-(unwrapped) for every rotor, and a waterfall (log colour scale, frequencies up to its
+(unwrapped) for every rotor, the amplitude beside the linear model's steady unbalance response at the
+same speeds (dashed), and a waterfall (log colour scale, frequencies up to its
 content), with the Campbell diagram's critical speeds overlaid and labelled (mode, order,
 rpm). With numba the first run compiles the kernels (~20 s, said on stderr). A run of the
 nonlinear model estimated to take more than 30 minutes of CPU time (the integrator's steps follow
@@ -123,6 +124,7 @@ def add_arguments(parser):
 def run(args) -> int:
     from ..analysis.campbell import campbell
     from ..simulation import simulate
+    from ..simulation.runup import steady_orders
     from ..simulation.simulate import _LARGEST_SPEED as LARGEST_SPEED
 
     model = open_model(args)
@@ -149,11 +151,13 @@ def run(args) -> int:
         _summary(result)
     if args.plot:
         use_agg()
-        critical = None
+        critical, steady = None, None
         if drive == "ramp" and final != speed:
             critical = campbell(model, np.linspace(min(speed, final), max(speed, final), 121)).critical
+        if drive == "ramp" and result.sensor_names:      # the run-up figure: the steady response beside the tracks
+            steady = steady_orders(model, result, args.sensor or result.sensor_names[0])
         save_figure(result.plot(sensor=args.sensor, critical=critical, title=model.name or None,
-                                units=args.units), args)
+                                units=args.units, steady=steady), args)
     return 0
 
 

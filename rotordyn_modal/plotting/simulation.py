@@ -190,9 +190,9 @@ def _legend_below(ax, lines):
 
 
 def plot_runup(result, sensor: str, critical=None, title: str | None = None, segments: int = 60,
-               units: str = "si"):
-    """Run-up: sensor signal, order-tracked amplitude and phase (unwrapped, joined), waterfall
-    (frequencies up to its content), all against speed.
+               units: str = "si", steady=None):
+    """Run-up: sensor signal, order-tracked amplitude (beside the steady response, where given)
+    and phase (unwrapped, joined), waterfall (frequencies up to its content), all against speed.
 
     Parameters
     ----------
@@ -204,6 +204,10 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         and speed where there is room (on the waterfall: points at their frequencies).
     units : {'si', 'us'}
         Unit system of the sensor's displacement: µm, or mil (docs/units.md).
+    steady : dict of str to SteadyOrder, optional
+        The linear model's steady unbalance response at the tracks' speeds
+        (:func:`~rotordyn_modal.simulation.runup.steady_orders`): drawn dashed beside each
+        rotor's track, in its colour.
 
     Returns
     -------
@@ -211,7 +215,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     """
     import matplotlib.pyplot as plt
 
-    from ..simulation.runup import STEADY_TOLERANCE, order_track, unsettled_spans, waterfall
+    from ..simulation.runup import STEADY_TOLERANCE, order_track, shade_causes, unsettled_spans, waterfall
     from ._labels import laid_out_renderer
 
     if critical is not None:  # the rotors' own orders (gear-mesh crossings sit at very low speeds)
@@ -228,12 +232,18 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         track = order_track(result, sensor, rotor=rotor)
         amplitude_ax.plot(track.speeds * rpm, track.amplitude * scale, ".-", ms=3, label=f"1X {rotor}")
         drawn = phase_ax.plot(track.speeds * rpm, track.unwrapped_phase_deg, ".-", ms=3, label=f"1X {rotor}")
+        if steady and rotor in steady:
+            amplitude_ax.plot(steady[rotor].speeds * rpm, steady[rotor].amplitude * scale, "--", lw=1.0,
+                              color=drawn[0].get_color(), gid=f"steady-{rotor}",
+                              label=f"1X {rotor}, steady (linear)")
         notes += _unknown_phase_note(track, result.rotor_names, drawn[0].get_color())
         spans = unsettled_spans(result, track, critical)
-        notes += _shade_unsettled((amplitude_ax, phase_ax), spans, rotor, drawn[0].get_color(), rpm)
+        causes = shade_causes(result, track, critical)
+        notes += _shade_unsettled((amplitude_ax, phase_ax), spans, rotor, drawn[0].get_color(), rpm, causes)
         if spans:
             unsure.append(f"1X {rotor} at " + ", ".join(f"{rpm_text(low * rpm)}-{rpm_text(high * rpm)}"
-                                                        for low, high in spans) + " rpm")
+                                                        for low, high in spans) + " rpm"
+                          + (f" ({'; '.join(causes)})" if causes else ""))
     amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude, 0-peak [{unit}]",
                      title="Order-tracked amplitude")
     phase_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X phase, unwrapped [deg]",
@@ -246,14 +256,15 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         # cross every place) drove it onto the tracks
         _legend_below(axis, axis.get_lines() + (notes if axis is phase_ax else []))
         axis.set_xlim(axes[0, 0].get_xlim())            # the run's speeds, as the signal's panel
+    _taller_for_legend(fig, phase_ax)
     _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor,
                     (scale, unit))
     fig.suptitle(title or f"Run-up of {result.model_name or 'the machine'}")
     if unsure:
-        warnings.warn("run-up: order track not separable from free vibration (a mode rung by a fast passage, or "
-                      "the start's transient) at " + "; ".join(unsure) + ": shaded on the figure (elsewhere the "
-                      f"track is the steady response within {STEADY_TOLERANCE:.0%} of its peak); a slower ramp "
-                      "or a later start narrows it")
+        warnings.warn(f"run-up: order track may differ from the steady response by more than {STEADY_TOLERANCE:.0%} "
+                      "of its peak at " + "; ".join(unsure) + ": shaded on the figure (elsewhere the track is "
+                      f"the steady response within {STEADY_TOLERANCE:.0%} of its peak); a slower ramp or a later "
+                      "start narrows it")
     if critical is not None and len(critical):
         for axis in (axes[0, 0], amplitude_ax, phase_ax):
             for speed in critical.speeds:
@@ -262,18 +273,46 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     return fig
 
 
-def _shade_unsettled(axes, spans, rotor, color, rpm):
+#: lines of text the phase panel's legend column may hold before the run-up figure grows taller
+#: (two notes of two lines each: the legend's height the figure's 8.5 in were laid out for)
+_LEGEND_LINES = 4
+
+
+def _taller_for_legend(fig, ax):
+    """Make ``fig`` taller by the lines of ``ax``'s legend's tallest column beyond
+    :data:`_LEGEND_LINES` (at its font's line spacing): otherwise constrained layout takes them
+    from the panels, and the amplitude panel's label ran past the figure's top (the shade's notes
+    naming their causes, motor_pump_on_mounts: 12 lines)."""
+    legend = ax.get_legend()
+    if legend is None or not legend.get_texts():
+        return
+    texts = [t.get_text() for t in legend.get_texts()]
+    # the columns as matplotlib fills them (np.array_split), in :func:`_legend_below`'s count
+    columns = np.array_split(np.arange(len(texts)), min(len(texts), 2))
+    tallest = max(sum(texts[k].count("\n") + 1 for k in column) for column in columns)
+    if tallest > _LEGEND_LINES:
+        size = legend.get_texts()[0].get_fontsize()
+        fig.set_figheight(fig.get_figheight() + (tallest - _LEGEND_LINES) * 1.25 * size / 72.0)
+
+
+def _shade_unsettled(axes, spans, rotor, color, rpm, causes=()):
     """Shade ``spans`` [rad/s] on ``axes`` (speed axis in rpm, ``rpm`` the factor from rad/s) in
-    the track's colour; a legend entry saying what the shade means, or none without spans."""
+    the track's colour; a legend entry saying what the shade means and why (``causes``:
+    :func:`~rotordyn_modal.simulation.runup.shade_causes`), or none without spans."""
+    import textwrap
+
     from matplotlib.patches import Patch
+
+    from ..simulation.runup import STEADY_TOLERANCE
 
     if not spans:
         return []
     for axis in axes:
         for low, high in spans:
             axis.axvspan(low * rpm, high * rpm, color=color, alpha=0.12, lw=0, zorder=0)
-    return [Patch(color=color, alpha=0.25, lw=0,
-                  label=f"1X {rotor}: not separable from free vibration\n(fast passage of a mode, start transient)")]
+    text = (f"1X {rotor}: may differ from the steady response by more than {STEADY_TOLERANCE:.0%} of its peak"
+            + (": " + "; ".join(causes) if causes else ""))
+    return [Patch(color=color, alpha=0.25, lw=0, label="\n".join(textwrap.wrap(text, _NOTE_WIDTH)))]
 
 
 #: the run-up's legend notes are wrapped at this many characters

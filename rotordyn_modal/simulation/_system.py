@@ -277,6 +277,34 @@ def progress_bar(total, progress):
     return tqdm(total=float(total), unit="s", desc="simulate", bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s")
 
 
+#: DOP853's return code when its stiffness test stopped it (Hairer's ``IDID = -4``)
+STIFF_STOP = -4
+
+
+def integrate_to(solver, t, stiffness_test=False):
+    """``solver.integrate(t)`` for scipy's DOP853 ``solver`` (``scipy.integrate.ode``), going on
+    past Hairer's stiffness test unless ``stiffness_test``; returns the state at ``t`` (or where
+    the solver stopped otherwise: ``solver.successful()`` says which).
+
+    DOP853 checks every 1,000 accepted steps of a call whether its steps stay at the edge of their
+    stability region and, after 15 such checks in a row, stops with code -4 ("the problem seems to
+    become stiff"): a heuristic along a fast mode (the stiff casing of
+    tests/test_simulate_stiff27s.py, 13.7 MHz), not a failure; ``solve_ivp``'s DOP853 (the rigid
+    model's numpy backend) has no such test. Where it stops, the state returned is the one at the
+    start of the step it checked (accepted steps only: scipy's ``src/dop.c`` returns before moving
+    ``x`` and ``y``), so the run goes on from there by scipy's public ``set_initial_value``: a
+    fresh start, as ``ode`` makes at every output time, its first step guessed again. Each stop
+    comes after at least 1,000 steps of progress. The CPU limit of the run, not this test, bounds
+    the work. With ``stiffness_test`` (journal bearings) code -4 is left to the caller: there it
+    is a journal running into its wall, the film stiffening without limit.
+    """
+    y = solver.integrate(t)
+    while not stiffness_test and solver.get_return_code() == STIFF_STOP and solver.t != t:
+        solver.set_initial_value(np.array(solver.y, copy=True), solver.t)
+        y = solver.integrate(t)
+    return y
+
+
 def check_duration(duration, rate):
     """Refuse a duration of more periods of the fastest motion (``rate`` [rad/s]) than the count
     limit: the integrator's steps grow with them, so such a run would not end in any useful time."""

@@ -429,7 +429,7 @@ def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="a
 
     from scipy.integrate import ode
 
-    from ._system import progress_bar
+    from ._system import integrate_to, progress_bar
 
     journals = system.films is not None
     compiled = None if system.dependent or backend == "numpy" else _compiled(backend, journals)
@@ -451,7 +451,7 @@ def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="a
         for i in range(1, len(times)):
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", UserWarning)
-                states[i] = solver.integrate(times[i])
+                states[i] = integrate_to(solver, times[i], stiffness_test=journals)   # as the rigid model's
             if not solver.successful() or not np.all(np.isfinite(states[i])):
                 failed = RuntimeError(f"integration failed at t = {solver.t:.6g} s (DOP853 code "
                                       f"{solver.get_return_code()})")

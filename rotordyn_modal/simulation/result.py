@@ -177,7 +177,8 @@ class SimulationResult:
 
         return waterfall(self, sensor, segments=segments)
 
-    def plot(self, sensor: str | None = None, critical=None, title: str | None = None, units: str = "si"):
+    def plot(self, sensor: str | None = None, critical=None, title: str | None = None, units: str = "si",
+             steady=None):
         """Time histories (constant speed, free spin) or run-up figures (ramp).
 
         Parameters
@@ -188,6 +189,9 @@ class SimulationResult:
             Critical speeds overlaid on the run-up figures.
         units : {'si', 'us'}
             Unit system of the displacements drawn (docs/units.md).
+        steady : dict of str to SteadyOrder, optional
+            The steady unbalance response beside the run-up's order tracks:
+            ``runup.steady_orders(model, result, sensor)``.
 
         Returns
         -------
@@ -196,7 +200,8 @@ class SimulationResult:
         from ..plotting.simulation import plot_runup, plot_simulation
 
         if self.drive == "ramp" and self.sensor_names:
-            return plot_runup(self, sensor or self.sensor_names[0], critical=critical, title=title, units=units)
+            return plot_runup(self, sensor or self.sensor_names[0], critical=critical, title=title, units=units,
+                              steady=steady)
         return plot_simulation(self, title=title, units=units)
 
     @classmethod

@@ -8,8 +8,9 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["OrderTrack", "Waterfall", "leakage_floor", "order_track", "passage_spans", "quasi_static_deviation",
-           "unsettled", "unsettled_spans", "waterfall", "window_turns"]
+__all__ = ["OrderTrack", "SteadyOrder", "Waterfall", "leakage_floor", "order_track", "passage_spans",
+           "quasi_static_deviation", "shade_causes", "steady_orders", "track_speeds", "unsettled", "unsettled_spans", "waterfall",
+           "window_turns"]
 
 
 @dataclass
@@ -161,7 +162,7 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> Orde
     values = fit(windows, index, others)
     shifted = _windows(result.time, angles[:, index], revolutions, offset=0.5 * revolutions)
     moved = fit(shifted, index, others)
-    speeds = np.array([np.trapezoid(result.drive_speed[w], result.time[w]) / np.ptp(result.time[w]) for w in windows])
+    speeds = _mean_speeds(result, windows)
     values = _as_turned(values, windows, angles[:, index])
     moved = _as_turned(moved, shifted, angles[:, index])
     middles = np.array([result.time[w].mean() for w in windows])
@@ -179,6 +180,90 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> Orde
     return OrderTrack(speeds=speeds, amplitude=amplitude, phase_deg=phase, sensor=sensor,
                       rotor=result.rotor_names[index], order=float(order), leakage_floor=floors.reshape(-1),
                       unsettled=unsure)
+
+
+def _mean_speeds(result, windows) -> np.ndarray:
+    """The reference rotor's mean speed over each window (boolean masks) [rad/s], shape (K,)."""
+    return np.array([np.trapezoid(result.drive_speed[w], result.time[w]) / np.ptp(result.time[w]) for w in windows])
+
+
+def track_speeds(result, rotor=None, revolutions=None) -> np.ndarray:
+    """The speeds [rad/s], shape (K,), of :func:`order_track`'s windows (the same arguments): the
+    reference rotor's mean speed over each, without fitting any signal."""
+    index = _rotor_index(result, rotor)
+    if revolutions is None:
+        revolutions = window_turns(result.speed_ratios, index)
+    angles = np.asarray(result.rotor_angles, dtype=float)
+    return _mean_speeds(result, _windows(result.time, angles[:, index], revolutions))
+
+
+@dataclass
+class SteadyOrder:
+    """The steady response of a linear model to its unbalances, at one sensor and one rotor's
+    order-track speeds: what the track is compared with.
+
+    Attributes
+    ----------
+    speeds : ndarray, shape (K,)
+        Reference rotor speeds [rad/s]: the track's (:func:`track_speeds`).
+    response : ndarray, shape (K,), complex
+        Complex amplitude [m] (``A cos(w t + phase)``, 0-peak) of the sum of the unbalance
+        responses of every rotor turning as fast as ``rotor`` (either way): the order line the
+        track cannot tell them apart on (:func:`_other_orders`).
+    sensor, rotor : str
+    sources : tuple of str
+        The rotors whose unbalances make it.
+    """
+
+    speeds: np.ndarray
+    response: np.ndarray
+    sensor: str
+    rotor: str
+    sources: tuple = ()
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """0-peak amplitude [m], shape (K,)."""
+        return np.abs(self.response)
+
+
+def steady_orders(model, result, sensor) -> dict:
+    """The linear model's steady unbalance response at ``sensor`` beside each rotor's 1X order
+    track of the run ``result``: :func:`~rotordyn_modal.analysis.unbalance.unbalance_response` at
+    the track's speeds (:func:`track_speeds`), the run-up figure draws it beside the track.
+
+    Parameters
+    ----------
+    model : Model
+        The simulated model.
+    result : SimulationResult
+        Its run-up.
+    sensor : str
+
+    Returns
+    -------
+    dict of str to SteadyOrder
+        One entry per rotor whose order line some rotor's unbalance excites (none without
+        ``[[unbalances]]``).
+    """
+    from ..analysis.unbalance import unbalance_response
+
+    result.sensor(sensor)                                 # an unknown sensor refused by name
+    if not model.unbalances:
+        return {}
+    ratios = np.asarray(result.speed_ratios, dtype=float)
+    out = {}
+    for index, rotor in enumerate(result.rotor_names):
+        speeds = track_speeds(result, rotor)
+        steady = unbalance_response(model, speeds, outputs=[sensor], resonances=False) if len(speeds) else None
+        sources = tuple(name for name in (steady.sources if steady is not None else ())
+                        if abs(abs(ratios[result.rotor_names.index(name)]) - abs(ratios[index]))
+                        <= 1e-9 * max(abs(ratios[index]), 1.0))
+        if sources:
+            response = sum(steady.response[0, steady.sources.index(name)] for name in sources)
+            out[rotor] = SteadyOrder(speeds=speeds, response=np.asarray(response, dtype=complex), sensor=sensor,
+                                     rotor=rotor, sources=sources)
+    return out
 
 
 def _as_turned(values, windows, angle):
@@ -410,6 +495,92 @@ def unsettled_spans(result, track, critical=None) -> list:
                                window_turns(result.speed_ratios, index))
     low, high = drive.min(), drive.max()
     return [(max(a, low), min(b, high)) for a, b in _merged(spans) if b > low and a < high]
+
+
+#: a passage whose lag :func:`quasi_static_deviation` estimates above this share of the peak is
+#: fast: the order does not reach its steady response, and the mode's ringing after it shows in
+#: the track (one mode at 6 Hz, zeta 0.03, swept from 3 to 12 Hz: above 6.6 Hz the track was 4 %
+#: of the peak off at an estimated lag of 0.95, 20 % at 1.6 and 24 % at 3.2; near the peak its
+#: distance was 0.92, 0.69 and 0.47 times the estimate at 0.16, 0.48 and 0.95: the lag)
+FAST_PASSAGE = 1.0
+
+
+def shade_causes(result, track, critical=None) -> list:
+    """Why ``track`` may differ from the steady response where :func:`unsettled_spans` shades it:
+    one short phrase a kind of cause.
+
+    * a crossing of the track's own order passed faster than :data:`SLOW_PASSAGE` ``(zeta f)^2``
+      where the span is shaded: ``"lag through mode 2 (about 16% of the mode's peak)"``, the
+      response lagging behind the steady one by about :func:`quasi_static_deviation` of the
+      mode's own resonant peak (a mode the sensor hardly sees moves the track little); beyond
+      :data:`FAST_PASSAGE`, ``'fast passage of modes 1-3: lag, ringing'``;
+    * another rotor's (or order's) fast passage, where the track's frequency is the mode's in a
+      shaded span: ``"modes 3-6 rung by 1X pump's passage"`` (:func:`passage_spans`);
+    * the track's :func:`unsettled` windows: ``'unsettled windows (start transient, ringing)'``.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The ramp.
+    track : OrderTrack
+        :func:`order_track` of ``result``.
+    critical : CriticalSpeeds, optional
+        The crossings over the ramp's speeds.
+
+    Returns
+    -------
+    list of str
+        The lags, the fast passages, the ringing after each other order's passages, the unsettled
+        windows (those present); empty where nothing is shaded.
+    """
+    spans = unsettled_spans(result, track, critical)
+    causes, lags, fast, rung = [], {}, [], {}
+    drive = np.asarray(result.drive_speed, dtype=float)
+    time = np.asarray(getattr(result, "time", ()), dtype=float)
+    if critical is not None and spans and len(time) == len(drive) > 1 and time[-1] > time[0]:
+        acceleration = (drive[-1] - drive[0]) / (time[-1] - time[0])
+        ratio = result.speed_ratios[list(result.rotor_names).index(track.rotor)]
+        per_speed = abs(ratio * track.order) / (2 * np.pi)    # the track's frequency per reference speed [Hz s/rad]
+        for k in np.argsort(critical.speeds):
+            speed, f, zeta = critical.speeds[k], critical.frequencies_hz[k], critical.damping_ratios[k]
+            if not (np.isfinite(f) and np.isfinite(zeta) and f > 0 and zeta > 0 and speed != 0):
+                continue
+            sweep = abs(f / speed * acceleration)     # the crossing order line's sweep [Hz/s]
+            seen = f / per_speed if per_speed > 0 else np.inf      # where the track's frequency is f [rad/s]
+            if sweep <= SLOW_PASSAGE * (zeta * f) ** 2 or not any(low <= seen <= high for low, high in spans):
+                continue
+            lag = quasi_static_deviation(sweep, f, zeta)
+            mode, source, order = int(critical.mode[k]), critical.source[k], float(critical.order[k])
+            if source != track.rotor or abs(order - track.order) > 1e-9:      # another order rings it
+                rung.setdefault(f"{order:g}X {source}", []).append(mode)
+            elif lag > FAST_PASSAGE:
+                fast.append(mode)
+            else:
+                lags[mode] = max(lag, lags.get(mode, 0.0))
+    if lags:
+        causes.append(f"lag through mode{'s' if len(lags) > 1 else ''} " + ", ".join(str(m) for m in sorted(lags))
+                      + " (about " + ", ".join(f"{lags[m]:.0%}" for m in sorted(lags)) + " of "
+                      + ("the mode's" if len(lags) == 1 else "each mode's") + " peak)")
+    if fast:
+        causes.append(f"fast passage of {_modes_text(fast)}: lag, ringing")
+    causes += [f"{_modes_text(modes)} rung by {name}'s passage" for name, modes in rung.items()]
+    if getattr(track, "unsettled", None) is not None and np.any(track.unsettled):
+        causes.append("unsettled windows (start transient, ringing)")
+    return causes
+
+
+def _modes_text(modes) -> str:
+    """'mode 2', or 'modes 1-3, 5' (each once, rising)."""
+    modes = sorted(set(int(m) for m in modes))
+    if len(modes) == 1:
+        return f"mode {modes[0]}"
+    runs = []
+    for m in modes:
+        if runs and m == runs[-1][1] + 1:
+            runs[-1][1] = m
+        else:
+            runs.append([m, m])
+    return "modes " + ", ".join(f"{a}" if a == b else f"{a}-{b}" for a, b in runs)
 
 
 def _merged(spans) -> list:

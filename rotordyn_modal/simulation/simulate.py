@@ -715,25 +715,8 @@ def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
         solver = ode(rhs).set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
         _stop_at_a_step_when(solver, caught)
         solver.set_initial_value(y0, times[0])
-        if not np.any(system.bfilm[:, 2] > 0.0):
-            _without_stiffness_test(solver)
-        return _output_times(solver, times, y0, bar, caught)
-
-
-def _without_stiffness_test(solver):
-    """Switch off the stiffness test of the DOP853 ``solver`` (scipy's ``ode``, its initial value
-    set): Hairer's code returns code -4 ("the problem seems to become stiff") once its steps stay
-    at the edge of their stability region, as they do along a fast mode (the stiff casing of
-    tests/test_simulate_stiff27s.py, 13.7 MHz, failed there after 32 us). ``solve_ivp``'s DOP853,
-    the numpy backend, has no such test and runs on with the same steps, as the CPU estimate counts
-    them (:func:`_fewest_steps`); the CPU limit, not this test, bounds the work. Kept with journal
-    bearings: there code -4 is a journal running into its wall, the film stiffening without limit
-    (:func:`_explained`; test_simulation_bearings, a journal that cannot carry its load). ``IWORK(4) < 0``
-    (Hairer's documented switch) is set in scipy's work array, which its ``ode`` does not expose;
-    left as it was where that array is not found."""
-    iwork = getattr(getattr(solver, "_integrator", None), "iwork", None)
-    if isinstance(iwork, np.ndarray) and iwork.shape[0] > 3:
-        iwork[3] = -1
+        # DOP853's stiffness test is kept with journal bearings only (see integrate_to)
+        return _output_times(solver, times, y0, bar, caught, stiffness_test=bool(np.any(system.bfilm[:, 2] > 0.0)))
 
 
 def _stop_at_a_step_when(solver, caught):
@@ -756,12 +739,15 @@ def _stop_at_a_step_when(solver, caught):
     solver.set_solout(step)
 
 
-def _output_times(solver, times, y0, bar, caught):
-    """The states at ``times`` (shape (len(times), len(y0))) from the DOP853 ``solver``. A signal
+def _output_times(solver, times, y0, bar, caught, stiffness_test=False):
+    """The states at ``times`` (shape (len(times), len(y0))) from the DOP853 ``solver``, past its
+    stiffness test unless ``stiffness_test`` (:func:`._system.integrate_to`). A signal
     noted in ``caught`` (``[(signum, frame, handler)]``) stops it at the end of its step, and the
     handler is called then (the command line's raises; where it returns, the integration goes on
     from there)."""
     import warnings
+
+    from ._system import integrate_to
 
     states = np.empty((len(times), len(y0)))
     states[0] = y0
@@ -770,7 +756,7 @@ def _output_times(solver, times, y0, bar, caught):
         while True:
             with warnings.catch_warnings():   # a failure is raised below with its return code
                 warnings.simplefilter("ignore", UserWarning)
-                states[i] = solver.integrate(times[i])
+                states[i] = integrate_to(solver, times[i], stiffness_test)
             if not caught:
                 break
             signum, frame, handler = caught.pop(0)

@@ -20,7 +20,7 @@ import numpy as np
 
 from .._progress import phase
 from ..errors import InputError
-from ..unbalance_standards import AMPLITUDE_WORDS, amplitude_factor
+from ..unbalance_standards import AMPLITUDE_WORDS, amplitude_factor, largest_margins_text, required_separation_margin
 from ..io.text import shown_text
 from ..units import check_system, rpm_text, unit_scale
 
@@ -42,7 +42,7 @@ STANDARDS = {"api617": ("model", "static", "campbell", "modes", "ucs", "unbalanc
 #: API 617 requires (below it 16 %, above it 26 %: ``min(16, 17 (1 - 1/(AF - 1.5)))`` and
 #: ``min(26, 10 + 17 (1 - 1/(AF - 1.5)))``): a mode whose 1X critical speed or whose frequency at
 #: the MCS (as a 1X speed) lies in it could fail the margin
-MODE_WINDOW = (0.16, 0.26)
+MODE_WINDOW = tuple(required_separation_margin(np.inf, side) / 100 for side in ("below", "above"))
 #: modes shown when none lies in the window: the lowest at the MCS
 LOWEST_MODES = 4
 #: most modes shown (the lowest numbers of those in the window)
@@ -957,7 +957,7 @@ def _campbell(data):
     passed = int(np.sum(np.isnan(judged["amplification_factor"].to_numpy(dtype=float))))
     note = (f"; {unknown} peak(s) not evaluated: AF unknown (the amplitude does not fall to peak/sqrt(2) on "
             "both sides within the sweep) and a margin below what some AF requires" if unknown else "") + \
-        (f"; {passed} peak(s) of unknown AF pass: margin at least what any AF requires (16 % below, 26 % above)"
+        (f"; {passed} peak(s) of unknown AF pass: margin at least what any AF requires ({largest_margins_text()})"
          if passed else "")
     if judged.empty:
         data.criteria.append(Criterion(name, "", "", "not evaluated", "campbell", note[2:]))

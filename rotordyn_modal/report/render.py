@@ -13,7 +13,7 @@ from string import Template
 import numpy as np
 
 from ..analysis.unbalance_checks import sensor_groups
-from ..unbalance_standards import amplitude_factor, amplitude_label
+from ..unbalance_standards import amplitude_factor, amplitude_label, largest_margins_text
 from ..units import check_system
 from .collect import (AMPLITUDE_WORDS, LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, UCS_STIFFNESS, from_pkpk,
                       shown_scale)
@@ -406,8 +406,8 @@ def margins_table(margins, units: str = "si", amplitude: str = "pk-pk") -> str:
 #: under the AF table where a peak's AF is unknown (its rows "not evaluated")
 _AF_UNKNOWN = ('<p class="note">* AF unknown: the amplitude does not fall to peak/&radic;2 on both sides of '
                "the peak within the sweep (a half-power point lies beyond its ends or past a neighbouring "
-               "peak). Such a peak passes where its margin is at least the largest any AF requires (16 % "
-               "below the range, 26 % above: its required margin shown); otherwise neither the required "
+               "peak). Such a peak passes where its margin is at least the largest any AF requires "
+               f"({largest_margins_text(' the range')}: its required margin shown); otherwise neither the required "
                "margin nor the verdict can be set (docs/standards.md).</p>")
 
 

@@ -179,3 +179,24 @@ def test_study_names_its_swept_af_so():
     roots = np.sort(np.roots([peak2 * m ** 2 - 2, peak2 * c ** 2 - 2 * peak2 * kk * m, peak2 * kk ** 2]).real)
     exact = np.sqrt(u) / (np.sqrt(roots[1]) - np.sqrt(roots[0]))
     assert abs(by_hand - exact) > 0.01 * exact
+
+
+@pytest.mark.parametrize("name, mcs, onsets", [("journal_rotor", 12500.0, 1), ("compressor_rotor", 10000.0, 0)])
+def test_estimate_counts_the_stability_rows_thresholds(name, mcs, onsets):
+    """The report's estimate counts the stability row's refinement (a few one-speed solves a
+    threshold) for as many thresholds as ``stability`` finds over the report's speeds: journal_rotor
+    at 12,500 rpm turns unstable once below 1.5 MCS, compressor_rotor never. On 80eaeba the
+    estimate counted none (no ``_thresholds_bound``)."""
+    from pathlib import Path
+
+    from rotordyn_modal.analysis.stability import stability
+    from rotordyn_modal.report.collect import THRESHOLD_SOLVES, _thresholds_bound, estimate_work
+
+    model = load_model(Path(__file__).resolve().parents[1] / "examples" / f"{name}.toml")
+    inputs = ReportInputs("api684", mcs * RPM, points=21)
+    found = int(np.isfinite(stability(model, inputs.speeds).thresholds).sum())
+    assert found == onsets
+    assert _thresholds_bound(model, inputs) == found
+    text = dict((p[0], p[2]) for p in estimate_work(model, inputs).parts)["campbell"]
+    assert (f"the stability row's thresholds: {found} refined" in text) == bool(found)
+    assert THRESHOLD_SOLVES >= 6                       # measured on journal_rotor (docs/report.md)

@@ -17,7 +17,7 @@ __all__ = ["BALANCE_GRADES", "balance_grade", "permissible_unbalance", "api_unba
            "API_SI_CONSTANT", "API_US_CONSTANT", "API_ANALYSIS_MULTIPLE", "api_analysis_unbalance",
            "API_SCALE_CAP", "api_scale_factor", "api_probe_limit", "ISO_20816_3_ZONES",
            "iso_zone_boundaries", "iso_zones", "AMPLITUDES", "AMPLITUDE_WORDS", "amplitude_factor", "amplitude_label",
-           "amplitude_column", "one_convention", "required_separation_margin"]
+           "amplitude_column", "one_convention", "required_separation_margin", "largest_margins_text"]
 
 #: ISO 21940-11 balance quality grades G [mm/s] (G0.4 ... G4000)
 BALANCE_GRADES = (0.4, 1.0, 2.5, 6.3, 16.0, 40.0, 100.0, 250.0, 630.0, 1600.0, 4000.0)
@@ -246,3 +246,11 @@ def required_separation_margin(af: float, position: str = "below") -> float:
         return 0.0 if np.isfinite(af) else np.nan
     margin = 17.0 * (1 - 1 / (af - 1.5))
     return min(16.0, margin) if position == "below" else min(26.0, 10.0 + margin)
+
+
+def largest_margins_text(where: str = "") -> str:
+    """The largest separation margins any AF requires (:func:`required_separation_margin` of an
+    infinite AF), as every text says them: ``'16 % below, 26 % above'``; ``where`` follows
+    "below" (``' the range'``: ``'16 % below the range, 26 % above'``)."""
+    below, above = (required_separation_margin(np.inf, side) for side in ("below", "above"))
+    return f"{below:g} % below{where}, {above:g} % above"

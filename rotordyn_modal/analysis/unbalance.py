@@ -431,14 +431,15 @@ class UnbalanceResult:
         return self._with_cases(_with_convention(table, amplitude or self.amplitude_kind, after=None))
 
     def _resolved_peaks(self, output: str, source: str):
-        """:func:`amplification_factors` of one curve, each swept peak read on the exact response
-        (:meth:`_exact_peak`), and a peak that the swept speeds cut (:meth:`cut_peaks`) reported
+        """The swept peaks of one curve read on the exact response (:meth:`_exact_peaks`; where not
+        computed, :func:`amplification_factors`), and a peak that the swept speeds cut (:meth:`cut_peaks`) reported
         at the maximum of the exact response, with the response there and ``AF = |speed| / (N2 -
         N1)`` (its half-power points): one between the two swept speeds around a swept peak
         replaces it, one elsewhere (the swept curve showing no peak) is added; ``[(speed [rad/s],
         amplitude, AF), ...]`` by speed."""
         o, j = self.outputs.index(output), self.sources.index(source)
-        found = [self._exact_peak(o, j, *peak) for peak in amplification_factors(self.speeds, self.amplitude[o, j])]
+        found = amplification_factors(self.speeds, self.amplitude[o, j]) if self.peak_swept_speeds is None \
+            else self._exact_peaks(o, j)
         at, response, band = self.cut_peaks(output, source)
         if not len(at):
             return found
@@ -457,19 +458,19 @@ class UnbalanceResult:
         out += [(float(a), float(abs(r)), float(abs(a) / b)) for a, r, b in zip(at, response, band)]
         return sorted(out, key=lambda peak: peak[0])
 
-    def _exact_peak(self, o: int, j: int, speed: float, amp: float, af: float):
-        """``(speed [rad/s], amplitude, AF)`` of the swept peak at ``speed`` of curve ``(o, j)`` on
-        the exact response (:attr:`peak_speeds`, :attr:`peak_half_power`; AF infinite where the
-        response is unbounded, ``N1 = N2``); the swept figures where not computed."""
-        if self.peak_swept_speeds is None:
-            return speed, amp, af
-        m = np.flatnonzero(self.peak_swept_speeds[o, j] == speed)
-        if not m.size:
-            return speed, amp, af
-        at, (low, high) = float(self.peak_speeds[o, j, m[0]]), self.peak_half_power[o, j, m[0]]
-        width = abs(high - low)                  # 0: unbounded (an undamped mode), AF infinite
-        af = abs(at) / width if width > 0 else (np.inf if width == 0 else np.nan)
-        return at, float(abs(self.peak_response[o, j, m[0]])), float(af)
+    def _exact_peaks(self, o: int, j: int):
+        """``[(speed [rad/s], amplitude, AF), ...]`` of each swept peak of curve ``(o, j)`` on the
+        exact response (:attr:`peak_speeds`, :attr:`peak_half_power`; AF infinite where the
+        response is unbounded, ``N1 = N2``; NaN where a half-power point lies beyond the sweep).
+        The swept peaks are :func:`amplification_factors`' (one search,
+        :func:`.unbalance_peaks.spin_curves`, of the same curve), read from the fields directly."""
+        out = []
+        for m in np.flatnonzero(np.isfinite(self.peak_swept_speeds[o, j])):
+            at, (low, high) = float(self.peak_speeds[o, j, m]), self.peak_half_power[o, j, m]
+            width = abs(high - low)                  # 0: unbounded (an undamped mode), AF infinite
+            af = abs(at) / width if width > 0 else (np.inf if width == 0 else np.nan)
+            out.append((at, float(abs(self.peak_response[o, j, m])), float(af)))
+        return out
 
     def _with_cases(self, table):
         """A table of the cases' response: ``source`` the case's rotor, the case in a last column."""
@@ -596,25 +597,21 @@ def amplification_factors(speeds, amplitude):
     -------
     list of (speed [rad/s], amplitude, amplification factor), in the order of ``speeds``
     """
+    from .unbalance_peaks import spin_curves
+
     speeds, amplitude = np.asarray(speeds, dtype=float), np.asarray(amplitude, dtype=float)
     out = []
-    for side in (np.flatnonzero(speeds < 0), np.flatnonzero(speeds >= 0)):
-        x, first = np.unique(np.abs(speeds[side]), return_index=True)
-        out += [(side[first[k]], peak) for k, peak in _curve_peaks(x, amplitude[side][first])]
+    for _, index, x, y, peaks in spin_curves(speeds, amplitude):
+        out += [(index[k], _curve_peak(x, y, k)) for _, k in peaks]
     return [(float(speeds[index]), amp, af) for index, (_, amp, af) in sorted(out, key=lambda item: item[0])]
 
 
-def _curve_peaks(x, y):
-    """``(k, (x_k, y_k, AF))`` of each peak of ``y`` over increasing ``x``."""
-    from scipy.signal import find_peaks
-
-    out = []
-    for k in find_peaks(y)[0]:
-        level = y[k] / np.sqrt(2)
-        left, right = _crossing(x, y, k, level, -1), _crossing(x, y, k, level, +1)
-        af = x[k] / (right - left) if np.isfinite(left) and np.isfinite(right) and right > left else np.nan
-        out.append((k, (float(x[k]), float(y[k]), float(af))))
-    return out
+def _curve_peak(x, y, k):
+    """``(x_k, y_k, AF)`` of the peak ``k`` of ``y`` over increasing ``x``."""
+    level = y[k] / np.sqrt(2)
+    left, right = _crossing(x, y, k, level, -1), _crossing(x, y, k, level, +1)
+    af = x[k] / (right - left) if np.isfinite(left) and np.isfinite(right) and right > left else np.nan
+    return float(x[k]), float(y[k]), float(af)
 
 
 def _crossing(x, y, k, level, step):

@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import InputError
 from ..model import Model
 from ..unbalance_standards import (api_analysis_unbalance, api_probe_limit, iso_zone_boundaries, iso_zones,
-                                   required_separation_margin)
+                                   largest_margins_text, required_separation_margin)
 
 __all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "sensor_groups", "separation_margins",
            "operating_range", "case_models", "AF_UNKNOWN"]
@@ -354,8 +354,8 @@ def separation_margins(result, operating, outputs=None, amplitude: str = "peak")
 
 #: why a peak's separation margin is 'not evaluated' (:func:`separation_margins`), one line
 AF_UNKNOWN = ("AF unknown: the amplitude does not fall to peak/sqrt(2) on both sides of the peak within the "
-              "sweep; its margin passes only where it is at least what any AF requires (16 % below the "
-              "range, 26 % above), else not evaluated")
+              f"sweep; its margin passes only where it is at least what any AF requires "
+              f"({largest_margins_text(' the range')}), else not evaluated")
 
 
 def _derivative(result, rows, w, order):

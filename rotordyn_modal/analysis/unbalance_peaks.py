@@ -251,8 +251,8 @@ def cut_maxima(curve, speeds, amplitude, found, half_power=True, share=_SEARCH_S
 
 
 def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=None):
-    """The AF table's peaks on the exact response: each swept peak of each curve (``scipy``'s
-    ``find_peaks`` over each direction of spin, as ``unbalance.amplification_factors``) refined to
+    """The AF table's peaks on the exact response: each swept peak of each curve (:func:`spin_curves`', as
+    ``unbalance.amplification_factors``') refined to
     the maximum of ``|response|`` between its two swept neighbours (golden-section search), and
     that maximum's half-power points (``|response| = peak / sqrt(2)``, the nearest either side)
     bisected on the exact response between the last swept speed above that level and the first
@@ -322,23 +322,47 @@ def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=Non
 
 def _swept_peaks(speeds, amplitude):
     """The swept peaks of each curve of ``amplitude`` (n_out, n_src, N) over ``speeds`` (N,)
-    [rad/s], each direction of spin a curve of its own over ``|speed|``: a dict of arrays ``o``,
-    ``j``, ``side``, ``swept`` (the peak's signed speed) and ``a < b`` (its swept neighbours, the
-    search interval), and ``sides``: ``[(sign, x (N',) increasing |speed|, y (n_out, n_src, N'))]``."""
-    from scipy.signal import find_peaks
-
+    [rad/s] (:func:`spin_curves`'): a dict of arrays ``o``, ``j``, ``side``, ``swept`` (the peak's
+    signed speed) and ``a < b`` (its swept neighbours, the search interval), and ``sides``:
+    ``[(sign, x (N',) increasing |speed|, y (n_out, n_src, N'))]``."""
     sides, c = [], {name: [] for name in ("o", "j", "side", "swept", "a", "b")}
-    for sign, side in ((-1.0, np.flatnonzero(speeds < 0)), (1.0, np.flatnonzero(speeds >= 0))):
-        x, first = np.unique(np.abs(speeds[side]), return_index=True)
-        y = amplitude[:, :, side[first]]
+    for sign, _, x, y, peaks in spin_curves(speeds, amplitude):
         sides.append((sign, x, y))
-        for o, j in np.ndindex(*y.shape[:2]):
-            for k in find_peaks(y[o, j])[0]:
-                ends = sorted((sign * x[k - 1], sign * x[k + 1]))
-                for name, item in zip(c, (o, j, len(sides) - 1, sign * x[k], *ends)):
-                    c[name].append(item)
+        for (o, j), k in peaks:
+            ends = sorted((sign * x[k - 1], sign * x[k + 1]))
+            for name, item in zip(c, (o, j, len(sides) - 1, sign * x[k], *ends)):
+                c[name].append(item)
     return {name: np.array(items, dtype=int if name in ("o", "j", "side") else float)
             for name, items in c.items()}, sides
+
+
+def spin_curves(speeds, amplitude):
+    """The swept peaks of each curve, the one search of them (:func:`exact_peaks`',
+    :func:`.unbalance.amplification_factors`'): each direction of spin a curve of its own over
+    ``|speed|``, its peaks ``scipy``'s ``find_peaks``.
+
+    Parameters
+    ----------
+    speeds : ndarray, shape (N,) [rad/s]
+        Any order, repeats allowed (each distinct speed of a side counted once, its first).
+    amplitude : ndarray, shape (..., N)
+
+    Returns
+    -------
+    list of (sign, index, x, y, peaks), the negative speeds' first
+        ``index`` (N',): the side's speeds in ``speeds`` by increasing ``x`` (N',) ``= |speed|``
+        (``speeds[index] = sign * x``); ``y = amplitude[..., index]``; ``peaks``: ``[(curve,
+        k)]``, each curve's (its index over the leading axes) peaks by ``k``, their index into ``x``.
+    """
+    from scipy.signal import find_peaks
+
+    out = []
+    for sign, side in ((-1.0, np.flatnonzero(speeds < 0)), (1.0, np.flatnonzero(speeds >= 0))):
+        x, first = np.unique(np.abs(speeds[side]), return_index=True)
+        y = amplitude[..., side[first]]
+        peaks = [(curve, k) for curve in np.ndindex(*y.shape[:-1]) for k in find_peaks(y[curve])[0]]
+        out.append((sign, side[first], x, y, peaks))
+    return out
 
 
 def _half_power_brackets(curve, c, sides, level, criticals=None):

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._progress import phase
 from ..errors import InputError
-from ..unbalance_standards import amplitude_column, amplitude_label, one_convention
+from ..unbalance_standards import amplitude_column, amplitude_label, largest_margins_text, one_convention
 from ._common import (IN_SPEED_UNIT, add_alias, add_model_argument, as_typed, add_output_file, add_outputs, add_sensor_argument, add_speed_unit, check_ending,
                       check_extra_output, check_speeds, mcs_option, open_model, parse_band, print_table, save_figure, show_progress,
                       speeds_option, speed_value, speeds_text, use_agg, whole_number, write_csv, write_table)
@@ -20,7 +20,7 @@ NAME = "unbalance"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
 API_NAMES = {"speeds": "--speeds"}
 HELP = "steady unbalance response vs speed, each rotor's harmonic at its own spin frequency"
-DESCRIPTION = """Response of the sensors to the model's [[unbalances]] over a speed sweep. Every
+DESCRIPTION = f"""Response of the sensors to the model's [[unbalances]] over a speed sweep. Every
 rotor's unbalances excite at that rotor's own spin frequency (|speed ratio| x speed,
 turning its own way); each rotor (source) is reported separately: amplitude (0-peak) and
 phase (x(t) = amplitude cos(2 pi frequency t + phase)). The table holds the sensors named by
@@ -36,7 +36,7 @@ peak below the range measured from LO (the minimum operating speed), above it fr
 maximum continuous speed), each as a percentage of that end; a peak inside the range has
 margin 0 and fails where API 684 requires a margin; a peak of unknown AF (no half-power
 point within the sweep on one side) passes where its margin is at least what any AF requires
-(16 % below, 26 % above), else is not evaluated (docs/standards.md).
+({largest_margins_text()}), else is not evaluated (docs/standards.md).
 
 Amplitudes (--amplitude peak|pk-pk|rms, default peak: 0-peak): one choice for the printed
 peaks table, the CSV and the figure. The peaks table (AF and separation margins) holds the

@@ -13,7 +13,7 @@ from string import Template
 import numpy as np
 
 from ..analysis.unbalance_checks import sensor_groups
-from ..unbalance_standards import amplitude_factor, amplitude_label
+from ..unbalance_standards import amplitude_factor, amplitude_label, largest_margins_text
 from ..units import check_system
 from .collect import (AMPLITUDE_WORDS, LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, UCS_STIFFNESS, from_pkpk,
                       shown_scale)
@@ -406,8 +406,8 @@ def margins_table(margins, units: str = "si", amplitude: str = "pk-pk") -> str:
 #: under the AF table where a peak's AF is unknown (its rows "not evaluated")
 _AF_UNKNOWN = ('<p class="note">* AF unknown: the amplitude does not fall to peak/&radic;2 on both sides of '
                "the peak within the sweep (a half-power point lies beyond its ends or past a neighbouring "
-               "peak). Such a peak passes where its margin is at least the largest any AF requires (16 % "
-               "below the range, 26 % above: its required margin shown); otherwise neither the required "
+               "peak). Such a peak passes where its margin is at least the largest any AF requires "
+               f"({largest_margins_text(' the range')}: its required margin shown); otherwise neither the required "
                "margin nor the verdict can be set (docs/standards.md).</p>")
 
 
@@ -449,12 +449,13 @@ def _modes(data, units) -> str:
         fig = result.plot(title=f"Mode shapes at the MCS\n{mcs:.6g} rpm, |shape| normalised", modes=numbers,
                           columns=3 if len(result.dof_names) <= 6 else 2)
         what = "each coordinate's share of the mode (|shape|, normalised)"
+    _renumbered(fig, {number: mode_label(number, label) for number, label in zip(numbers, tracked)})
     return "\n".join([
         _heading("modes"),
         f"<p>Modes at the MCS ({mcs:.6g} rpm), numbered as the Campbell diagram, the critical-speed table and "
         "<code>stability</code> number them (tracked over the sweep: mode N is one mode throughout the report); "
         f"where <code>modes --speed {mcs:.6g}</code> numbers one otherwise, its number there follows in brackets "
-        "(the figure's panels carry that number). Shown are "
+        "(in the figure's panels too). Shown are "
         f"those whose 1X critical speed or whose frequency at the MCS (as a 1X speed) lies within "
         f"{100 * MODE_WINDOW[0]:.0f} % below or {100 * MODE_WINDOW[1]:.0f} % above (the largest separation "
         "margins API 617 asks) the operating range, "
@@ -617,13 +618,34 @@ def _level1(data, units) -> str:
         f"{escape(result.verdict(units))}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
         _runs_table(runs, result, units, data),
-        _figure(result.plot(**_units(units)), f"Figure: log decrement of each swept forward mode against the "
+        _figure(_renumbered(result.plot(**_units(units)), {run.mode: _tracked_label(data, run.mode) for run in runs
+                                                            if run.mode}),
+                f"Figure: log decrement of each swept forward mode against the "
                 f"applied cross-coupling Q, {_level1_mode(data, result)} (bold), the least stable at Qa; Q0 the smallest of "
                 "the swept modes' (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
         + ([] if csr is None or not csr.evaluated else [_figure(csr.plot(verdict=result.verdict().rpartition(": ")[2], **_units(units)),
                                            "Figure: critical speed ratio against average gas density, the dividing "
                                            "line between Regions A and B (API 617 Level I; docs/standards.md).",
                                            "Critical speed ratio chart")]))
+
+
+def _renumbered(fig, labels: dict):
+    """``fig`` with each "mode N" of its texts (panel titles, legend, axis labels) written
+    "mode ``labels[N]``": the figures of :mod:`rotordyn_modal.plotting` number the modes as
+    ``modes --speed MCS`` does, the report as the Campbell diagram (:func:`_tracked_label`);
+    ``labels`` maps the first to the second, a number it lacks stays. Returns ``fig``."""
+    import re
+
+    from matplotlib.text import Text
+
+    def label(match):
+        return f"mode {labels.get(int(match.group(1)), match.group(1))}"
+
+    for text in fig.findobj(Text):
+        words = text.get_text()
+        if "mode " in words:
+            text.set_text(re.sub(r"\bmode (\d+)\b", label, words))
+    return fig
 
 
 def _level1_mode(data, run) -> str:

@@ -147,10 +147,11 @@ def test_level1_legend_names_the_swept_mode_as_the_text(report, monkeypatch):
 def test_study_names_its_swept_af_so():
     """``study``'s ``unbalance`` AF is read off the swept speeds (the exact search of ``unbalance``
     and ``report`` would cost several times the variant's response, docs/study-file.md), and its
-    column says so: ``amplification_factor_swept``. Its value is the half-power band interpolated
+    column ``amplification_factor`` (the name scripts read) says so in its netCDF attribute
+    ``peak_search``. Its value is the half-power band interpolated
     by hand between the swept speeds of the closed-form response of a rigid rotor on isotropic
     bearings (probe at its centre of mass: the polar inertia the grid varies does not reach it),
-    1 % or more off the exact AF there. On 80eaeba the column is ``amplification_factor``."""
+    1 % or more off the exact AF there. On 80eaeba the column has no ``peak_search``."""
     import rotordyn_modal as rdm
     from closed_form_machines import C_B, K_B, M_R, rotor_displacement, rotor_on_springs
     from rotordyn_modal.study import parse_study
@@ -161,8 +162,9 @@ def test_study_names_its_swept_af_so():
                         "analyses": {"unbalance": {"speeds_rpm": "100:6000:31", "operating_speed_rpm": 3000.0}}},
                        model=model)
     data = rdm.study(model, spec).dataset
-    assert "amplification_factor" not in data
-    swept = data["amplification_factor_swept"].values.ravel()
+    assert "swept speeds" in data["amplification_factor"].attrs["peak_search"]
+    assert "swept speeds" in data["required_margin_pct"].attrs["peak_search"]
+    swept = data["amplification_factor"].values.ravel()
     w = np.linspace(100.0, 6000.0, 31) * RPM
     y = rotor_displacement(w, amount)
     k = int(np.argmax(y))

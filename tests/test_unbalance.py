@@ -187,7 +187,7 @@ def test_study_peak_takes_the_margin_of_its_side():
     raw = 17 * (1 - 1 / (af - 1.5))
     for operating, expected in ((60.0, min(26.0, 10 + raw)), (140.0, min(16.0, raw))):
         out = {name: np.full((1, 1), np.nan) for name in ("unbalance_peak_amplitude", "unbalance_peak_speed",
-                                                          "amplification_factor_swept", "separation_margin_pct",
+                                                          "amplification_factor", "separation_margin_pct",
                                                           "required_margin_pct")}
         _unbalance_peak(out, 0, 0, w, amplitude, operating, amplification_factors, required_separation_margin)
         assert out["required_margin_pct"][0, 0] == pytest.approx(expected, rel=1e-12)

@@ -300,7 +300,7 @@ def _write(result, args, folder, kinds=None):
 
 
 #: said once on the terminal where a study's ``unbalance`` analysis gives AF (docs/study-file.md)
-SWEPT_AF = ("amplification_factor_swept: read off the swept speeds (half-power points interpolated between them), "
+SWEPT_AF = ("amplification_factor: read off the swept speeds (half-power points interpolated between them), "
             "not searched on the exact response as `unbalance` and `report` do; a sharp peak needs fine speeds")
 
 
@@ -312,7 +312,7 @@ def _report(result, band, kinds=None):
     if failed:
         first = int(np.flatnonzero(result.failed)[0])         # one text read, not every variant's
         print(f"first failure: {result.dataset['error'][first].values}", file=sys.stderr)
-    if "amplification_factor_swept" in result.dataset:
+    if "amplification_factor" in result.dataset:
         print(SWEPT_AF, file=sys.stderr)
     table = result.summary()
     if len(table):

@@ -269,10 +269,10 @@ def _describe_unbalance(model, options):
     return variables, coords, (tuple(outputs), tuple(sources), forces)
 
 
-#: per (output, unbalance_source): the sensors' peaks; the AF read off the swept speeds, as its name
-#: says (the exact search of ``unbalance`` and ``report`` cost 3 to 9 times the swept response for
-#: the largest peak alone: docs/study-file.md)
-_UNBALANCE_VARIABLES = ("unbalance_peak_amplitude", "unbalance_peak_speed", "amplification_factor_swept",
+#: per (output, unbalance_source): the sensors' peaks; the AF read off the swept speeds, as its netCDF
+#: attribute ``peak_search`` says (the exact search of ``unbalance`` and ``report`` cost 3 to 9 times
+#: the swept response for the largest peak alone: docs/study-file.md)
+_UNBALANCE_VARIABLES = ("unbalance_peak_amplitude", "unbalance_peak_speed", "amplification_factor",
                         "separation_margin_pct", "required_margin_pct")
 #: per (force_output, unbalance_source), with ``forces``: the force rows' peaks [N, N m; rad/s]
 _FORCE_VARIABLES = ("force_peak_amplitude", "force_peak_speed")
@@ -337,7 +337,7 @@ def _unbalance_peak(out, i, j, speeds, amplitude, operating, factors, required):
         speed, amp, af = float(speeds[k]), float(amplitude[k]), np.nan
     out["unbalance_peak_amplitude"][i, j] = amp
     out["unbalance_peak_speed"][i, j] = speed
-    out["amplification_factor_swept"][i, j] = af
+    out["amplification_factor"][i, j] = af
     above = operating is not None and abs(speed) > abs(operating)
     out["required_margin_pct"][i, j] = required(af, "above" if above else "below")
     if operating is not None:

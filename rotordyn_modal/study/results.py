@@ -154,7 +154,14 @@ def build_dataset(chunks, values, definition, variables, coords, model, attrs=No
     for name in ("unbalance_peak_amplitude", "force_peak_amplitude"):
         if name in ds:       # unbalance --amplitude's default: x(t) = amplitude cos(...) (docs/standards.md)
             ds[name].attrs["amplitude"] = "0-peak"
+    for name in ("amplification_factor", "required_margin_pct"):
+        if name in ds:       # not the exact search of unbalance and report (docs/study-file.md)
+            ds[name].attrs["peak_search"] = SWEPT_PEAK_SEARCH
     return ds
+
+
+#: the netCDF attribute ``peak_search`` of a study's ``amplification_factor`` and ``required_margin_pct``
+SWEPT_PEAK_SEARCH = "swept speeds (half-power points interpolated between them)"
 
 
 _UNITS = {"frequency_hz": "Hz", "damping_ratio": "1", "real_part": "1/s", "whirl_ratio": "1",

@@ -860,6 +860,9 @@ def _root_columns(stack, speeds, values, weighted, count, progress=False):
             else:
                 columns[k + 1, j] = columns[k, i]
         back = _returning(columns[:k + 1], label, entering, k + 1, speeds, values, weighted) if entering else {}
+        if len(back) < len(entering):              # a shape changed in the gap: the check follows the root
+            back.update(_followed_back(stack, speeds, columns[:k + 1], label, [j for j in entering if j not in back],
+                                       k + 1, values, count, progress))
         for j in entering:
             if j in back:
                 columns[k + 1, j] = back[j]
@@ -927,6 +930,71 @@ def _returning(columns, total, entering, k, speeds, values, weighted) -> dict:
         return {}
     rows, picked = linear_sum_assignment(np.where(finite, cost, 1e6))
     return {entering[c]: candidates[r][0] for r, c in zip(rows, picked) if finite[r, c]}
+
+
+def _gone(columns, total, values) -> list:
+    """The result columns whose root left the lowest modes before the last speed of ``columns``
+    (k, c), each as ``(column, its last two speeds found, its tracked slots there)``."""
+    candidates = []
+    for label in np.setdiff1d(np.arange(total), columns[-1]):
+        rows, slots = np.nonzero((columns == label) & np.isfinite(values[:len(columns)]))
+        if len(rows):
+            candidates.append((int(label), rows[-2:], slots[-2:]))
+    return candidates
+
+
+def _followed_back(stack, speeds, columns, total, entering, k, values, count, progress=False) -> dict:
+    """The roots of ``entering`` that the check follows back to a result column whose root left
+    the lowest modes before speed ``k``: ``{j: its former column}``, for roots :func:`_returning`
+    does not give back (their shape changed while they were out: MAC below ``_CONFIDENT_MAC``).
+
+    The check solves ``count +`` :data:`_EXTRA_ROOTS` ``+`` (columns gone) roots at every sweep
+    speed from the first of the gone roots' last speeds to ``k``, halving the steps where its
+    tracking is unsure for one of them (:func:`_check_grids`), and tracks them as one run: an
+    entering root is a gone column's root where the check's root of the column's last value is, at
+    speed ``k``, the entering root (each to :data:`_SAME_VALUE`). A root that rose above the
+    check's roots in between is not followed: it gets a column of its own, as before.
+
+    Parameters
+    ----------
+    columns : ndarray of int, shape (k, c)
+    total : int
+    entering : list of int
+    k : int
+    values : ndarray, shape (N, c), complex [1/s]
+    count : int
+
+    Returns
+    -------
+    dict
+    """
+    candidates = _gone(columns, total, values)
+    if not candidates:
+        return {}
+    start = min(int(rows[-1]) for _, rows, _ in candidates)
+    steps = np.arange(start, k)
+    more = min(count + _EXTRA_ROOTS + len(candidates), stack_root_count(stack))
+    try:
+        grids, lam, rows, where = _check_grids(stack, speeds, steps, min(count + len(candidates), more), more,
+                                               progress)
+    except InputError:                               # too long to solve again: new columns
+        return {}
+    at = np.concatenate([grids[steps[0]]] + [grids[s][1:] for s in steps[1:]])
+    ends = np.cumsum([0] + [len(grids[s]) - 1 for s in steps])      # each sweep speed's place in ``at``
+    order = track_modes_many(lam[at][None], rows[at][None], where[at])[0]
+    found = {}
+    for label, last_rows, slots in candidates:
+        place = ends[int(last_rows[-1]) - start]
+        index = _same_roots(lam[at[place]], values[int(last_rows[-1]), int(slots[-1])][None])
+        if index is None:
+            continue
+        mine = np.flatnonzero(order[place] == index[0])[0]                # the check's label of the gone root
+        now = lam[at[ends[-1]], order[ends[-1], mine]]
+        for j in entering:
+            if j not in found and abs(values[k, j] - now) <= _SAME_VALUE * abs(now):
+                found[j] = label
+                break
+    return found
 
 
 def _doubtful_steps(values, weighted) -> np.ndarray:

@@ -234,3 +234,28 @@ def test_a_root_that_comes_back_with_another_shape_gets_its_column_back():
     np.testing.assert_allclose(column[found], truth[found], rtol=SAME)
     lowest = np.sort(np.where(every.imag > 0, every.imag, np.inf), axis=1)[np.searchsorted(fine, speeds), 3]
     np.testing.assert_array_equal(found, truth.imag <= lowest * (1 + SAME))   # found where among the lowest 4
+
+
+def test_roots_leaving_at_the_top_while_modes_are_born_below_keep_apart():
+    """Guard (passes on main): the ROSS compressor's lowest 12 from 420 to 1150 rad/s. Four roots
+    leave the check's roots at the top (near 11,800 rad/s) while four modes are born below 600 rad/s
+    (overdamped roots becoming modes); tracking pairs each leaving root with one born, however
+    short the step. On the 2 end speeds alone each column holds one root of the 74-speed sweep (a
+    first version of this branch gave two columns a root at 11,800 and one at 1,800 rad/s)."""
+    import warnings
+    from pathlib import Path
+
+    from rotordyn_modal.io.ross_file import read_ross_rotor
+
+    path = Path(__file__).parent / "data" / "ross" / "compressor_example.toml"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = rdm.Model.from_dict(read_ross_rotor(path), source=path)
+        fine_speeds = np.linspace(420.0, 1150.0, 74)
+        fine = rdm.campbell(model, fine_speeds, modes=12, critical=False).eigenvalues
+        values = rdm.campbell(model, fine_speeds[[0, -1]], modes=12, critical=False).eigenvalues
+    assert values.shape[1] == fine.shape[1] == 16
+    for j in range(values.shape[1]):
+        held = [set(np.flatnonzero(np.abs(fine[k] - values[s, j]) <= 1e-6 * abs(values[s, j])).tolist())
+                for s, k in ((0, 0), (1, -1)) if np.isfinite(values[s, j])]
+        assert held and set.intersection(*held), f"column {j + 1} holds {held}"

@@ -943,6 +943,13 @@ def _gone(columns, total, values) -> list:
     return candidates
 
 
+#: a gone root is followed back (:func:`_followed_back`) only to an entering root within this
+#: fraction of its last |lambda| of its last root: a bound on the check's work (the ROSS compressor's
+#: lowest 12 at 147 speeds: 1.7 -> 3.3 s CPU without it, its roots leaving at the top of the lowest
+#: at 11,800 rad/s while new modes enter below 600 rad/s)
+_FOLLOWED_DISTANCE = 0.5
+
+
 def _followed_back(stack, speeds, columns, total, entering, k, values, count, progress=False) -> dict:
     """The roots of ``entering`` that the check follows back to a result column whose root left
     the lowest modes before speed ``k``: ``{j: its former column}``, for roots :func:`_returning`
@@ -953,7 +960,9 @@ def _followed_back(stack, speeds, columns, total, entering, k, values, count, pr
     tracking is unsure for one of them (:func:`_check_grids`), and tracks them as one run: an
     entering root is a gone column's root where the check's root of the column's last value is, at
     speed ``k``, the entering root (each to :data:`_SAME_VALUE`). A root that rose above the
-    check's roots in between is not followed: it gets a column of its own, as before.
+    check's roots in between, or whose pairing the check could not tell (:func:`_unsure_labels`),
+    or that comes back more than :data:`_FOLLOWED_DISTANCE` of its |lambda| from where it left, is
+    not followed: it gets a column of its own, as before.
 
     Parameters
     ----------
@@ -968,7 +977,9 @@ def _followed_back(stack, speeds, columns, total, entering, k, values, count, pr
     -------
     dict
     """
-    candidates = _gone(columns, total, values)
+    candidates = [c for c in _gone(columns, total, values)
+                  if np.any(np.abs(values[k, entering] - values[int(c[1][-1]), int(c[2][-1])])
+                            <= _FOLLOWED_DISTANCE * abs(values[int(c[1][-1]), int(c[2][-1])]))]
     if not candidates:
         return {}
     start = min(int(rows[-1]) for _, rows, _ in candidates)
@@ -982,6 +993,7 @@ def _followed_back(stack, speeds, columns, total, entering, k, values, count, pr
     at = np.concatenate([grids[steps[0]]] + [grids[s][1:] for s in steps[1:]])
     ends = np.cumsum([0] + [len(grids[s]) - 1 for s in steps])      # each sweep speed's place in ``at``
     order = track_modes_many(lam[at][None], rows[at][None], where[at])[0]
+    untold = _unsure_labels(lam[at], rows[at], min(count + len(candidates), more), order)[1]
     found = {}
     for label, last_rows, slots in candidates:
         place = ends[int(last_rows[-1]) - start]
@@ -989,6 +1001,8 @@ def _followed_back(stack, speeds, columns, total, entering, k, values, count, pr
         if index is None:
             continue
         mine = np.flatnonzero(order[place] == index[0])[0]                # the check's label of the gone root
+        if untold[place:, mine].any():                                     # lost on the way: a new column
+            continue
         now = lam[at[ends[-1]], order[ends[-1], mine]]
         for j in entering:
             if j not in found and abs(values[k, j] - now) <= _SAME_VALUE * abs(now):
@@ -1021,11 +1035,12 @@ def _links_of_steps(stack, speeds, values, steps, count, progress=False) -> dict
 
     The check tracks ``count +`` :data:`_EXTRA_ROOTS` roots over the step, on speeds between its two
     ends where a step of them is unsure (:func:`_check_grids`): the pairing does not depend on the
-    sweep's step. Neighbouring doubtful steps are tracked as one run of speeds, so that a root is
-    the same root on both sides of a sweep speed where it meets another (a double root there, whose
-    shapes are any basis of its eigenspace): each of the sweep's roots is the check's root of its
-    value, and a link joins the sweep's roots the check's tracking calls one root
-    (:func:`_sweep_labels`)."""
+    sweep's step. Neighbouring doubtful steps whose shared sweep speed holds a root the check finds
+    twice (two roots equal there, or a repeated root, whose shapes are any basis of its eigenspace)
+    are tracked as one run of speeds, so that a root is the same root on both sides of that speed
+    (and such a step's neighbour is checked too, :func:`_tied_neighbours`): each of the sweep's
+    roots is the check's root of its value, and a link joins the sweep's roots the check's tracking
+    calls one root (:func:`_sweep_labels`)."""
     more = min(count + _EXTRA_ROOTS, stack_root_count(stack))
     try:
         grids, lam, rows, where = _check_grids(stack, speeds, steps, count, more, progress)
@@ -1039,13 +1054,14 @@ def _links_of_steps(stack, speeds, values, steps, count, progress=False) -> dict
     except InputError:                               # too long to solve again: the tracking stands
         return {}
     links = {}
-    for run in _runs(steps):
+    for run in _runs(steps, [k for k in steps if np.any(_copies_of(values[k], lam[grids[int(k)][0]]) > 1)]):
         at = np.concatenate([grids[run[0]]] + [grids[k][1:] for k in run[1:]])
         ends = np.cumsum([0] + [len(grids[k]) - 1 for k in run])        # each sweep speed's place in ``at``
         order = track_modes_many(lam[at][None], rows[at][None], where[at])[0]     # (P, m): label -> check root
         labels = _sweep_labels(lam[at[ends]], order[ends], values[run[0]:run[-1] + 2])
+        untold = _unsure_labels(lam[at], rows[at], count, order)[1]
         for s, k in enumerate(run):
-            link = _step_link(labels[s], labels[s + 1])
+            link = _step_link(labels[s], labels[s + 1], np.flatnonzero(untold[ends[s]:ends[s + 1]].any(axis=0)))
             if link is not None:
                 links[int(k)] = link
     return links
@@ -1073,12 +1089,14 @@ def _copies_of(values, lam):
     return (np.abs(values[:, None] - lam[None, :]) <= _SAME_VALUE * np.abs(values)[:, None]).sum(axis=1)
 
 
-def _runs(steps) -> list:
-    """``steps`` (increasing ints) in runs of consecutive ones: [[1, 2, 3], [7], ...]."""
+def _runs(steps, joined=None) -> list:
+    """``steps`` (increasing ints) in runs of consecutive ones, [[1, 2, 3], [7], ...]; with
+    ``joined``, only those steps are joined to the step before them (the others start runs)."""
     steps = [int(k) for k in steps]
+    joined = None if joined is None else {int(k) for k in joined}
     runs = []
     for k in steps:
-        if runs and runs[-1][-1] == k - 1:
+        if runs and runs[-1][-1] == k - 1 and (joined is None or k in joined):
             runs[-1].append(k)
         else:
             runs.append([k])
@@ -1228,24 +1246,45 @@ def _unsure_parts(lam, rows, count, where=None) -> list:
     a root enters the check's roots (one becoming a mode) the top one leaves them, and tracking
     pairs the two, on every part however short. ``where`` (P,) [rad/s]: the check's speeds (the
     tracking's extrapolation over parts of unequal length)."""
+    order = track_modes_many(lam[None], rows[None], where)[0]
+    return [int(p) for p in np.flatnonzero(_unsure_labels(lam, rows, count, order)[0].any(axis=1))]
+
+
+def _unsure_labels(lam, rows, count, order):
+    """:func:`_unsure_parts`' test of each of the check's tracked roots (labels) on each part, the
+    tracking ``order`` (P, m) given (``order[p, label]``: the label's root at speed p).
+
+    Returns
+    -------
+    unsure : ndarray of bool, shape (P - 1, m)
+        The label's pairing over the part is unsure (halved by :func:`_check_grids`).
+    untold : ndarray of bool, shape (P - 1, m)
+        The pairings of the top root at either end (not halved) that would be unsure, no copy at
+        either end: a root entering the check's roots from below (one becoming a mode) while
+        another leaves them at the top, paired by tracking, however short the part. Such a
+        pairing is no link (two roots equal at a speed, copies, are told by tracking through that
+        speed, :func:`_links_of_steps`).
+    """
     from ._vectors import mac_matrix
     from .tracking import _CONFIDENT_MAC
 
-    order = track_modes_many(lam[None], rows[None], where)[0]
-    unsure = []
+    unsure = np.zeros((len(lam) - 1, lam.shape[1]), dtype=bool)
+    untold = unsure.copy()
     for p in range(len(lam) - 1):
         a, b = lam[p, order[p]], lam[p + 1, order[p + 1]]
-        mac = np.diagonal(mac_matrix(rows[p, order[p]], rows[p + 1, order[p + 1]]))
+        macs = mac_matrix(rows[p, order[p]], rows[p + 1, order[p + 1]])
+        mac = np.diagonal(macs)
         other = np.abs(a[:, None] - a[None, :]) > _SAME_VALUE * np.abs(a)[:, None]   # not itself, nor its copies
         gap = np.minimum(np.where(other, np.abs(a[:, None] - a[None, :]), np.inf),
                          np.where(other, np.abs(b[:, None] - b[None, :]), np.inf)).min(axis=1)
-        moved = (np.abs(b - a) >= 0.5 * gap) | _elsewhere(mac_matrix(rows[p, order[p]], rows[p + 1, order[p + 1]]),
-                                                            ~other, _copies(b))
+        copies = _copies(b)
+        moved = (np.abs(b - a) >= 0.5 * gap) | _elsewhere(macs, ~other, copies)
         rank_a, rank_b = (np.argsort(np.argsort(np.abs(x.imag), kind="stable"), kind="stable") for x in (a, b))
-        checked = ((rank_a < count) | (rank_b < count)) & (rank_a < len(a) - 1) & (rank_b < len(b) - 1)
-        if np.any((mac < _CONFIDENT_MAC) & moved & checked):
-            unsure.append(p)
-    return unsure
+        lowest = (rank_a < count) | (rank_b < count)
+        unsure[p] = (mac < _CONFIDENT_MAC) & moved & lowest & (rank_a < len(a) - 1) & (rank_b < len(b) - 1)
+        top = (rank_a == len(a) - 1) | (rank_b == len(b) - 1)
+        untold[p] = (mac < _CONFIDENT_MAC) & moved & lowest & top & ((~other).sum(axis=1) == 1) & (copies.sum(axis=1) == 1)
+    return unsure, untold
 
 
 def _copies(values):
@@ -1280,15 +1319,16 @@ def _elsewhere(mac, before, after):
     return np.any((grouped >= _CONFIDENT_MAC) & ~own, axis=1)
 
 
-def _step_link(before, after):
+def _step_link(before, after, untold=()):
     """:func:`_links_of_steps` of one step from the check's labels (:func:`_sweep_labels`) of the
     sweep's roots at its two speeds, ``before`` and ``after`` (c,) (None: a root of the sweep is
     not among the check's): ``{j: i or None}``, root j at the second speed continuing root i at the
-    first (None: the label of j is none of the first speed's roots), or None where each of the
-    sweep's roots continues the one the sweep tracked (or one is not among the check's)."""
+    first (None: the label of j is none of the first speed's roots, or one of ``untold``, whose
+    pairing the check could not tell, :func:`_unsure_labels`), or None where each of the sweep's
+    roots continues the one the sweep tracked (or one is not among the check's)."""
     if before is None or after is None:
         return None
-    where = {int(label): i for i, label in enumerate(before)}
+    where = {int(label): i for i, label in enumerate(before) if label not in untold}
     link = {j: where.get(int(label)) for j, label in enumerate(after)}
     if all(i == j for j, i in link.items()):
         return None

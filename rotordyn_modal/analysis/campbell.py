@@ -656,7 +656,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
     shapes = _reordered(shapes, order)
     weighted = weighted.reordered(order, shapes)
     # the lowest N alone: where a root enters them, a tracked column would pass to it (issue 27 section 3)
-    roots = None if limit is not None else _root_columns(stack, speeds, values[0], weighted, count)
+    roots = None if limit is not None else _root_columns(stack, speeds, values[0], weighted, count, progress)
     if wanted is not None:
         wanted = wanted[None][rows + (order,)]
         values, shapes, weighted, wanted = _columns_wanted(values, shapes, weighted, wanted)
@@ -805,7 +805,7 @@ _SAME_VALUE = 1e-6
 _SAME_ROOT_BYTES = 8 * 2**20
 
 
-def _root_columns(stack, speeds, values, weighted, count):
+def _root_columns(stack, speeds, values, weighted, count, progress=False):
     """The result column of each tracked root of the lowest modes' route, or None where the
     lowest ``count`` are the same roots all along the sweep.
 
@@ -832,6 +832,8 @@ def _root_columns(stack, speeds, values, weighted, count):
     weighted : WeightedRows, shape (1, N, count, n)
         Their weighted shapes.
     count : int
+    progress : bool
+        A line while the doubtful steps are checked (:func:`_check_grids`).
 
     Returns
     -------
@@ -843,7 +845,7 @@ def _root_columns(stack, speeds, values, weighted, count):
     steps = _doubtful_steps(values, weighted)
     if not len(steps):
         return None
-    links = _links_of_steps(stack, speeds, values, steps, count)
+    links = _links_of_steps(stack, speeds, values, steps, count, progress)
     if not links:
         return None
     columns = np.empty(values.shape, dtype=int)
@@ -858,6 +860,9 @@ def _root_columns(stack, speeds, values, weighted, count):
             else:
                 columns[k + 1, j] = columns[k, i]
         back = _returning(columns[:k + 1], label, entering, k + 1, speeds, values, weighted) if entering else {}
+        if len(back) < len(entering):              # a shape changed in the gap: the check follows the root
+            back.update(_followed_back(stack, speeds, columns[:k + 1], label, [j for j in entering if j not in back],
+                                       k + 1, values, count, progress))
         for j in entering:
             if j in back:
                 columns[k + 1, j] = back[j]
@@ -927,6 +932,85 @@ def _returning(columns, total, entering, k, speeds, values, weighted) -> dict:
     return {entering[c]: candidates[r][0] for r, c in zip(rows, picked) if finite[r, c]}
 
 
+def _gone(columns, total, values) -> list:
+    """The result columns whose root left the lowest modes before the last speed of ``columns``
+    (k, c), each as ``(column, its last two speeds found, its tracked slots there)``."""
+    candidates = []
+    for label in np.setdiff1d(np.arange(total), columns[-1]):
+        rows, slots = np.nonzero((columns == label) & np.isfinite(values[:len(columns)]))
+        if len(rows):
+            candidates.append((int(label), rows[-2:], slots[-2:]))
+    return candidates
+
+
+#: a gone root is followed back (:func:`_followed_back`) only to an entering root within this
+#: fraction of its last |lambda| of its last root: a bound on the check's work (the ROSS compressor's
+#: lowest 12 at 147 speeds: 1.7 -> 3.3 s CPU without it, its roots leaving at the top of the lowest
+#: at 11,800 rad/s while new modes enter below 600 rad/s)
+_FOLLOWED_DISTANCE = 0.5
+
+
+def _followed_back(stack, speeds, columns, total, entering, k, values, count, progress=False) -> dict:
+    """The roots of ``entering`` that the check follows back to a result column whose root left
+    the lowest modes before speed ``k``: ``{j: its former column}``, for roots :func:`_returning`
+    does not give back (their shape changed while they were out: MAC below ``_CONFIDENT_MAC``).
+
+    The check solves ``count +`` :data:`_EXTRA_ROOTS` ``+`` (columns gone) roots at every sweep
+    speed from the first of the gone roots' last speeds to ``k``, halving the steps where its
+    tracking is unsure for one of them (:func:`_check_grids`), and tracks them as one run: an
+    entering root is a gone column's root where the check's root of the column's last value is, at
+    speed ``k``, the entering root (each to :data:`_SAME_VALUE`). A root that rose above the
+    check's roots in between, or whose pairing the check could not tell (:func:`_unsure_labels`),
+    or that comes back more than :data:`_FOLLOWED_DISTANCE` of its |lambda| from where it left, is
+    not followed: it gets a column of its own, as before.
+
+    Parameters
+    ----------
+    columns : ndarray of int, shape (k, c)
+    total : int
+    entering : list of int
+    k : int
+    values : ndarray, shape (N, c), complex [1/s]
+    count : int
+
+    Returns
+    -------
+    dict
+    """
+    candidates = [c for c in _gone(columns, total, values)
+                  if np.any(np.abs(values[k, entering] - values[int(c[1][-1]), int(c[2][-1])])
+                            <= _FOLLOWED_DISTANCE * abs(values[int(c[1][-1]), int(c[2][-1])]))]
+    if not candidates:
+        return {}
+    start = min(int(rows[-1]) for _, rows, _ in candidates)
+    steps = np.arange(start, k)
+    more = min(count + _EXTRA_ROOTS + len(candidates), stack_root_count(stack))
+    try:
+        grids, lam, rows, where = _check_grids(stack, speeds, steps, min(count + len(candidates), more), more,
+                                               progress)
+    except InputError:                               # too long to solve again: new columns
+        return {}
+    at = np.concatenate([grids[steps[0]]] + [grids[s][1:] for s in steps[1:]])
+    ends = np.cumsum([0] + [len(grids[s]) - 1 for s in steps])      # each sweep speed's place in ``at``
+    order = track_modes_many(lam[at][None], rows[at][None], where[at])[0]
+    untold = _unsure_labels(lam[at], rows[at], min(count + len(candidates), more), order)[1]
+    found = {}
+    for label, last_rows, slots in candidates:
+        place = ends[int(last_rows[-1]) - start]
+        index = _same_roots(lam[at[place]], values[int(last_rows[-1]), int(slots[-1])][None])
+        if index is None:
+            continue
+        mine = np.flatnonzero(order[place] == index[0])[0]                # the check's label of the gone root
+        if untold[place:, mine].any():                                     # lost on the way: a new column
+            continue
+        now = lam[at[ends[-1]], order[ends[-1], mine]]
+        for j in entering:
+            if j not in found and abs(values[k, j] - now) <= _SAME_VALUE * abs(now):
+                found[j] = label
+                break
+    return found
+
+
 def _doubtful_steps(values, weighted) -> np.ndarray:
     """The steps k (to speed k + 1) where some tracked column of ``values`` (N, c) whose roots are
     found at both speeds has a MAC of its weighted shapes (``weighted`` (1, N, c, n)) with itself
@@ -942,7 +1026,7 @@ def _doubtful_steps(values, weighted) -> np.ndarray:
     return np.flatnonzero(doubtful)
 
 
-def _links_of_steps(stack, speeds, values, steps, count) -> dict:
+def _links_of_steps(stack, speeds, values, steps, count, progress=False) -> dict:
     """Which tracked root of ``values`` (N, c) continues which over each doubtful step, where some
     root enters or leaves the lowest ``count`` there, or where the sweep's tracking paired its roots
     otherwise: ``{k: {j: i or None}}``, root ``j`` at speed ``k + 1`` continuing root ``i`` at ``k``
@@ -951,20 +1035,126 @@ def _links_of_steps(stack, speeds, values, steps, count) -> dict:
 
     The check tracks ``count +`` :data:`_EXTRA_ROOTS` roots over the step, on speeds between its two
     ends where a step of them is unsure (:func:`_check_grids`): the pairing does not depend on the
-    sweep's step."""
+    sweep's step. Neighbouring doubtful steps whose shared sweep speed holds a root the check finds
+    twice (two roots equal there, or a repeated root, whose shapes are any basis of its eigenspace)
+    are tracked as one run of speeds, so that a root is the same root on both sides of that speed
+    (and such a step's neighbour is checked too, :func:`_tied_neighbours`): each of the sweep's
+    roots is the check's root of its value, and a link joins the sweep's roots the check's tracking
+    calls one root (:func:`_sweep_labels`)."""
+    more = min(count + _EXTRA_ROOTS, stack_root_count(stack))
     try:
-        grids, lam, rows = _check_grids(stack, speeds, steps, count,
-                                        min(count + _EXTRA_ROOTS, stack_root_count(stack)))
+        grids, lam, rows, where = _check_grids(stack, speeds, steps, count, more, progress)
+        extra = _tied_neighbours(steps, grids, lam, values)
+        if len(extra):                               # a run may not end where a root meets another
+            added, more_lam, more_rows, more_where = _check_grids(stack, speeds, extra, count, more, progress)
+            grids.update({k: grid + len(lam) for k, grid in added.items()})
+            lam, rows = np.concatenate([lam, more_lam]), np.concatenate([rows, more_rows])
+            where = np.concatenate([where, more_where])
+            steps = np.union1d(steps, extra)
     except InputError:                               # too long to solve again: the tracking stands
         return {}
     links = {}
-    for k in steps:
-        at = grids[int(k)]
-        order = track_modes_many(lam[at][None], rows[at][None])[0, -1]     # root e at k -> order[e] at k + 1
-        link = _step_link(lam[at[[0, -1]]], order, values[k], values[k + 1])
-        if link is not None:
-            links[int(k)] = link
+    for run in _runs(steps, [k for k in steps if np.any(_copies_of(values[k], lam[grids[int(k)][0]]) > 1)]):
+        at = np.concatenate([grids[run[0]]] + [grids[k][1:] for k in run[1:]])
+        ends = np.cumsum([0] + [len(grids[k]) - 1 for k in run])        # each sweep speed's place in ``at``
+        order = track_modes_many(lam[at][None], rows[at][None], where[at])[0]     # (P, m): label -> check root
+        labels = _sweep_labels(lam[at[ends]], order[ends], values[run[0]:run[-1] + 2])
+        untold = _unsure_labels(lam[at], rows[at], count, order)[1]
+        for s, k in enumerate(run):
+            link = _step_link(labels[s], labels[s + 1], np.flatnonzero(untold[ends[s]:ends[s + 1]].any(axis=0)))
+            if link is not None:
+                links[int(k)] = link
     return links
+
+
+def _tied_neighbours(steps, grids, lam, values) -> np.ndarray:
+    """The steps next to a run of ``steps`` (:func:`_runs`), not among them, at whose shared sweep
+    speed one of the sweep's roots ``values`` (N, c) is found twice among the check's roots ``lam``
+    (within :data:`_SAME_VALUE`: two roots meeting at that very speed, or a repeated root): which of
+    the two it is the check can tell only by tracking through that speed (:func:`_sweep_labels`).
+    ``grids`` as :func:`_check_grids` returns them."""
+    extra = []
+    for run in _runs(steps):
+        for k, place, step in ((run[0], 0, run[0] - 1), (run[-1] + 1, -1, run[-1] + 1)):
+            grid = grids[run[0] if place == 0 else run[-1]]
+            if not 0 <= step < len(values) - 1 or not np.all(np.isfinite(values[k])):
+                continue
+            if np.any(_copies_of(values[k], lam[grid[place]]) > 1):
+                extra.append(step)
+    return np.setdiff1d(np.array(extra, dtype=int), steps)
+
+
+def _copies_of(values, lam):
+    """How many of the roots ``lam`` (m,) lie within :data:`_SAME_VALUE` of each of ``values`` (c,)."""
+    return (np.abs(values[:, None] - lam[None, :]) <= _SAME_VALUE * np.abs(values)[:, None]).sum(axis=1)
+
+
+def _runs(steps, joined=None) -> list:
+    """``steps`` (increasing ints) in runs of consecutive ones, [[1, 2, 3], [7], ...]; with
+    ``joined``, only those steps are joined to the step before them (the others start runs)."""
+    steps = [int(k) for k in steps]
+    joined = None if joined is None else {int(k) for k in joined}
+    runs = []
+    for k in steps:
+        if runs and runs[-1][-1] == k - 1 and (joined is None or k in joined):
+            runs[-1].append(k)
+        else:
+            runs.append([k])
+    return runs
+
+
+def _sweep_labels(lam, order, values):
+    """The check's label (its tracked root) of each of the sweep's roots at each sweep speed of a run.
+
+    Each of the sweep's roots is the check's root of its value (within :data:`_SAME_VALUE`). A root
+    the check finds twice to that tolerance (a repeated root, or two roots that meet at that very
+    speed) could be either copy; of such ties, the label (1) the sweep's same root has at a
+    neighbouring speed of the run (its own pairing kept where the check does not say otherwise) and
+    (2) found among the sweep's roots at the neighbouring speeds (a root that continues rather than
+    one that leaves there) is taken.
+
+    Parameters
+    ----------
+    lam : ndarray, shape (S, m), complex [1/s]
+        The check's roots at the run's sweep speeds.
+    order : ndarray of int, shape (S, m)
+        The check's tracking there: ``order[s, label]`` is the root of ``label`` at speed s.
+    values : ndarray, shape (S, c), complex [1/s]
+        The sweep's tracked roots there.
+
+    Returns
+    -------
+    list of (ndarray of int, shape (c,), or None)
+        Each speed's labels of the sweep's roots; None where one is not among the check's roots.
+    """
+    count = len(values)
+    label_of = np.empty_like(order)
+    label_of[np.arange(count)[:, None], order] = np.arange(order.shape[1])[None, :]   # check root -> label
+    labels = [_labelled(lam[s], values[s], label_of[s], None) for s in range(count)]
+    again = []
+    for s in range(count):                               # ties settled by the first pass's neighbours
+        near = [labels[t] for t in (s - 1, s + 1) if 0 <= t < count and labels[t] is not None]
+        again.append(_labelled(lam[s], values[s], label_of[s], near))
+    return again
+
+
+def _labelled(lam, values, label_of, near):
+    """:func:`_sweep_labels` at one speed: the check's label (``label_of`` (m,), of each check root
+    ``lam`` (m,)) of each sweep root ``values`` (c,); ``near`` the labels of the neighbouring speeds
+    (None on the first pass: ties go to the first copy)."""
+    index = _same_roots(lam, values, None if near is None else _tie_cost(label_of, near, len(values)))
+    return None if index is None else label_of[index]
+
+
+def _tie_cost(label_of, near, c):
+    """(c, m) cost, below :data:`_SAME_VALUE`, of giving sweep root j the check root of each label:
+    half of it where that label is not the one the sweep's root j has at a neighbouring speed, half
+    where the label is no sweep root's at a neighbouring speed."""
+    cost = np.zeros((c, len(label_of)))
+    for labels in near:
+        cost += 0.25 * _SAME_VALUE * (label_of[None, :] != labels[:, None])
+        cost += 0.25 * _SAME_VALUE * ~np.isin(label_of, labels)[None, :]
+    return cost / max(len(near), 1)
 
 
 #: the most halvings of a doubtful step the check makes (:func:`_check_grids`): a step of 2**-6 of
@@ -972,12 +1162,13 @@ def _links_of_steps(stack, speeds, values, steps, count) -> dict:
 _CHECK_LEVELS = 6
 
 
-def _check_grids(stack, speeds, steps, count, more):
+def _check_grids(stack, speeds, steps, count, more, progress=False):
     """The check's speeds over each doubtful step and its ``more`` lowest roots there.
 
     Each step is halved where the check's tracking over a part of it is unsure for one of the
     ``count`` lowest roots (:func:`_unsure_parts`), up to :data:`_CHECK_LEVELS` times, the new
-    speeds of all steps solved in one batch a level.
+    speeds of all steps solved in one batch a level; with ``progress``, a line
+    (:func:`.._progress.phase`) names the steps checked and each level's halvings.
 
     Returns
     -------
@@ -987,27 +1178,42 @@ def _check_grids(stack, speeds, steps, count, more):
     lam : ndarray, shape (P, more), complex [1/s]
     rows : ndarray, shape (P, more, n), complex
         Their weighted shapes.
+    where : ndarray, shape (P,) [rad/s]
+        The speed of each.
     """
-    at = np.unique(np.concatenate([steps, steps + 1]))
-    lam, rows = _check_roots(stack, speeds[at], more)
+    described = f"checking {len(steps)} doubtful step{'s' if len(steps) != 1 else ''} of the lowest modes"
+    with phase(progress, described) as bar:
+        at = np.unique(np.concatenate([steps, steps + 1]))
+        lam, rows = _check_roots(stack, speeds[at], more)
+        return _halved(stack, speeds, steps, count, more, at, lam, rows, bar, described)
+
+
+def _halved(stack, speeds, steps, count, more, at, lam, rows, bar, described):
+    """:func:`_check_grids`' halvings, from the check's roots ``lam``, ``rows`` at the steps' ends
+    ``speeds[at]``; ``bar`` (a :func:`.._progress.phase` line, or None) renamed each level."""
     index = {int(k): i for i, k in enumerate(at)}
     grids = {int(k): np.array([index[int(k)], index[int(k) + 1]]) for k in steps}
     points = {int(k): [float(speeds[k]), float(speeds[k + 1])] for k in steps}
-    for _ in range(_CHECK_LEVELS):
-        halves = {k: _unsure_parts(lam[grid], rows[grid], count) for k, grid in grids.items()}
+    where = speeds[at]
+    for level in range(_CHECK_LEVELS):
+        halves = {k: _unsure_parts(lam[grid], rows[grid], count, where[grid]) for k, grid in grids.items()}
         halves = {k: parts for k, parts in halves.items() if len(parts)}
         if not halves:
             break
         middle = [(k, p, 0.5 * (points[k][p] + points[k][p + 1])) for k, parts in halves.items() for p in parts]
+        if bar is not None:
+            bar.set_description(f"{described}: halving {len(middle)} unsure part{'s' if len(middle) != 1 else ''} "
+                                f"(level {level + 1} of at most {_CHECK_LEVELS}): ", refresh=False)
         more_lam, more_rows = _check_roots(stack, np.array([m for _, _, m in middle]), more)
         start = len(lam)
         lam, rows = np.concatenate([lam, more_lam]), np.concatenate([rows, more_rows])
+        where = np.concatenate([where, [m for _, _, m in middle]])
         for k in halves:
             mine = [(p, start + i, m) for i, (kk, p, m) in enumerate(middle) if kk == k]
             for p, i, m in reversed(mine):               # from the last part: earlier places stay
                 grids[k] = np.insert(grids[k], p + 1, i)
                 points[k].insert(p + 1, m)
-    return grids, lam, rows
+    return grids, lam, rows, where
 
 
 def _check_roots(stack, speeds, more):
@@ -1025,61 +1231,105 @@ def _check_roots(stack, speeds, more):
         return lam, WeightedRows(stack, phi[None], one_thread=True)[0]
 
 
-def _unsure_parts(lam, rows, count) -> list:
+def _unsure_parts(lam, rows, count, where=None) -> list:
     """The parts p (from the check's speed p to p + 1) of a step where the check's tracking of its
     roots ``lam`` (P, m), weighted shapes ``rows`` (P, m, n), is unsure for a root among the
     ``count`` lowest (by frequency: the sweep's roots) at either end: its weighted shapes at the
     two ends have a MAC below the tracking's ``_CONFIDENT_MAC``, and it moved at least half the way
-    to the nearest other root at one of the ends (its pairing told by neither its shape nor its
-    value).
+    to the nearest other root at one of the ends, or its shape at the first end is plainly that of
+    another root at the second (:func:`_elsewhere`): its pairing told by neither its shape nor its
+    value, or by its value against its shape.
 
     A repeated root's copies (a rotor's forward and backward modes at rest), whose shapes are any
-    basis of their eigenspace, are one root (:func:`_step_link`): neither they nor the roots they
+    basis of their eigenspace, are one root (:func:`_copies`): neither they nor the roots they
     become are each other's nearest other root. The top root at either end is not checked: where
     a root enters the check's roots (one becoming a mode) the top one leaves them, and tracking
-    pairs the two, on every part however short."""
+    pairs the two, on every part however short. ``where`` (P,) [rad/s]: the check's speeds (the
+    tracking's extrapolation over parts of unequal length)."""
+    order = track_modes_many(lam[None], rows[None], where)[0]
+    return [int(p) for p in np.flatnonzero(_unsure_labels(lam, rows, count, order)[0].any(axis=1))]
+
+
+def _unsure_labels(lam, rows, count, order):
+    """:func:`_unsure_parts`' test of each of the check's tracked roots (labels) on each part, the
+    tracking ``order`` (P, m) given (``order[p, label]``: the label's root at speed p).
+
+    Returns
+    -------
+    unsure : ndarray of bool, shape (P - 1, m)
+        The label's pairing over the part is unsure (halved by :func:`_check_grids`).
+    untold : ndarray of bool, shape (P - 1, m)
+        The pairings of the top root at either end (not halved) that would be unsure, no copy at
+        either end: a root entering the check's roots from below (one becoming a mode) while
+        another leaves them at the top, paired by tracking, however short the part. Such a
+        pairing is no link (two roots equal at a speed, copies, are told by tracking through that
+        speed, :func:`_links_of_steps`).
+    """
     from ._vectors import mac_matrix
     from .tracking import _CONFIDENT_MAC
 
-    order = track_modes_many(lam[None], rows[None])[0]
-    unsure = []
+    unsure = np.zeros((len(lam) - 1, lam.shape[1]), dtype=bool)
+    untold = unsure.copy()
     for p in range(len(lam) - 1):
         a, b = lam[p, order[p]], lam[p + 1, order[p + 1]]
-        mac = np.diagonal(mac_matrix(rows[p, order[p]], rows[p + 1, order[p + 1]]))
+        macs = mac_matrix(rows[p, order[p]], rows[p + 1, order[p + 1]])
+        mac = np.diagonal(macs)
         other = np.abs(a[:, None] - a[None, :]) > _SAME_VALUE * np.abs(a)[:, None]   # not itself, nor its copies
         gap = np.minimum(np.where(other, np.abs(a[:, None] - a[None, :]), np.inf),
                          np.where(other, np.abs(b[:, None] - b[None, :]), np.inf)).min(axis=1)
-        moved = np.abs(b - a) >= 0.5 * gap
+        copies = _copies(b)
+        moved = (np.abs(b - a) >= 0.5 * gap) | _elsewhere(macs, ~other, copies)
         rank_a, rank_b = (np.argsort(np.argsort(np.abs(x.imag), kind="stable"), kind="stable") for x in (a, b))
-        checked = ((rank_a < count) | (rank_b < count)) & (rank_a < len(a) - 1) & (rank_b < len(b) - 1)
-        if np.any((mac < _CONFIDENT_MAC) & moved & checked):
-            unsure.append(p)
-    return unsure
+        lowest = (rank_a < count) | (rank_b < count)
+        unsure[p] = (mac < _CONFIDENT_MAC) & moved & lowest & (rank_a < len(a) - 1) & (rank_b < len(b) - 1)
+        top = (rank_a == len(a) - 1) | (rank_b == len(b) - 1)
+        untold[p] = (mac < _CONFIDENT_MAC) & moved & lowest & top & ((~other).sum(axis=1) == 1) & (copies.sum(axis=1) == 1)
+    return unsure, untold
 
 
-def _step_link(lam, order, before, after):
-    """:func:`_links_of_steps` of one step: ``lam`` (2, m) the check's roots at its two speeds,
-    ``order`` (m,) the check's tracking over the step (its root e at the first speed continues as
-    root ``order[e]`` at the second); ``before``, ``after`` (c,) the sweep's tracked roots there.
-    ``{j: i or None}``, or None where each of the sweep's roots continues the one the sweep tracked
-    (or a root of the sweep is not among the check's).
+def _copies(values):
+    """(m, m) bool: the roots of ``values`` (m,) within :data:`_SAME_VALUE` of each other (a
+    repeated root's copies, each its own copy)."""
+    return np.abs(values[:, None] - values[None, :]) <= _SAME_VALUE * np.abs(values)[:, None]
 
-    The roots are told by value (within :data:`_SAME_VALUE`): a repeated root's copies (a rotor's
-    forward and backward modes at rest) are one root whichever copy the check's shapes follow (of
-    equal copies, the sweep's own pairing is kept)."""
-    second = _same_roots(lam[1], after)
-    if second is None or _same_roots(lam[0], before) is None:
+
+def _elsewhere(mac, before, after):
+    """Of the check's tracked roots over a part (labels), those whose shape at the part's first end
+    has a MAC of at least ``_CONFIDENT_MAC`` with another label's root at its second end: tracking
+    paired them by value against their shapes (a coarse step where roots moved more than their
+    gaps). The MACs are summed over a repeated root's copies at either end (``before``, ``after``
+    (m, m) bool, :func:`_copies`), whose shapes are any basis of their eigenspace, and a label's own
+    copies are not another's root.
+
+    Parameters
+    ----------
+    mac : ndarray, shape (m, m)
+        MAC of each label's weighted shape at the first end (rows) with each at the second.
+    before, after : ndarray of bool, shape (m, m)
+
+    Returns
+    -------
+    ndarray of bool, shape (m,)
+    """
+    from .tracking import _CONFIDENT_MAC
+
+    a, b = before.astype(float), after.astype(float)
+    grouped = a @ mac @ b                          # a's copies (rows) against b's copies (columns)
+    own = (a @ b) > 0                              # the labels a label's copies became, and their copies
+    return np.any((grouped >= _CONFIDENT_MAC) & ~own, axis=1)
+
+
+def _step_link(before, after, untold=()):
+    """:func:`_links_of_steps` of one step from the check's labels (:func:`_sweep_labels`) of the
+    sweep's roots at its two speeds, ``before`` and ``after`` (c,) (None: a root of the sweep is
+    not among the check's): ``{j: i or None}``, root j at the second speed continuing root i at the
+    first (None: the label of j is none of the first speed's roots, or one of ``untold``, whose
+    pairing the check could not tell, :func:`_unsure_labels`), or None where each of the sweep's
+    roots continues the one the sweep tracked (or one is not among the check's)."""
+    if before is None or after is None:
         return None
-    came_from = np.empty(len(order), dtype=int)
-    came_from[order] = np.arange(len(order))
-    partners = lam[0][came_from[second]]                 # each root at k + 1: the check's root at k it continues
-    link = dict.fromkeys(range(len(after)))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        gap = np.abs(before[:, None] - partners[None, :]) / np.abs(before)[:, None]
-    gap = np.where(np.isfinite(gap), gap, 1.0)
-    for i, j in zip(*_assigned(gap + _SAME_VALUE * 1e-3 * (1 - np.eye(len(before), len(after))))):
-        if gap[i, j] <= _SAME_VALUE:
-            link[int(j)] = int(i)
+    where = {int(label): i for i, label in enumerate(before) if label not in untold}
+    link = {j: where.get(int(label)) for j, label in enumerate(after)}
     if all(i == j for j, i in link.items()):
         return None
     return link
@@ -1092,16 +1342,16 @@ def _assigned(gap):
     return linear_sum_assignment(np.minimum(gap, 1.0))
 
 
-def _same_roots(lam, values):
+def _same_roots(lam, values, tie=None):
     """The index in ``lam`` (m,) of each root of ``values`` (c,) (within :data:`_SAME_VALUE`; a
-    repeated root's copies each to one of its own), or None where one is not there (or is not
-    found)."""
+    repeated root's copies each to one of its own, ``tie`` (c, m), below :data:`_SAME_VALUE`,
+    choosing among them), or None where one is not there (or is not found)."""
     if not np.all(np.isfinite(values)):
         return None
     with np.errstate(invalid="ignore"):
         gap = np.abs(values[:, None] - lam[None, :]) / np.abs(values)[:, None]
     gap = np.where(np.isfinite(gap), gap, 1.0)
-    rows, index = _assigned(gap)
+    rows, index = _assigned(gap if tie is None else np.minimum(gap, 1.0) + tie)
     if np.any(gap[rows, index] > _SAME_VALUE):
         return None
     return index

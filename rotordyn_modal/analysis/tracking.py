@@ -33,7 +33,7 @@ _CONFIDENT_MAC = 0.8
 _EIGEN_WEIGHT_RELATIVE = 0.02
 
 
-def track_modes(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
+def track_modes(eigenvalues: np.ndarray, shapes: np.ndarray, speeds=None) -> np.ndarray:
     """Order that follows each mode across speeds.
 
     Parameters
@@ -41,6 +41,9 @@ def track_modes(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
     eigenvalues : ndarray, shape (N, n), complex
     shapes : ndarray, shape (N, n, d), complex
         Unit-norm (mass-weighted) shapes.
+    speeds : ndarray, shape (N,), optional
+        The speeds (or any parameter) of the rows, increasing: a mode's eigenvalue is extrapolated
+        linearly in them over an unsure step. Default: equally spaced.
 
     Returns
     -------
@@ -48,16 +51,18 @@ def track_modes(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
         ``order[k, label]`` is the index, at speed k, of the mode called ``label``;
         labels are numbered by ascending frequency at the first speed.
     """
-    return track_modes_many(eigenvalues[None], shapes[None])[0]
+    return track_modes_many(eigenvalues[None], shapes[None], speeds)[0]
 
 
-def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
+def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray, speeds=None) -> np.ndarray:
     """:func:`track_modes` for the sweeps of several variants at once.
 
     Parameters
     ----------
     eigenvalues : ndarray, shape (V, N, n), complex
     shapes : ndarray, shape (V, N, n, d), complex
+    speeds : ndarray, shape (N,), optional
+        As for :func:`track_modes` (the same for every variant).
 
     Returns
     -------
@@ -85,7 +90,8 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
         sure_step = confident[:, event]
         last_good[sure_step] = k
         for v in np.nonzero(~sure_step)[0]:
-            order[v, k], sure = _ambiguous_step(k, order[v], eigenvalues[v], _of_variant(shapes, v), last_good[v])
+            order[v, k], sure = _ambiguous_step(k, order[v], eigenvalues[v], _of_variant(shapes, v), last_good[v],
+                                                _stretch(speeds, k))
             last_good[v, sure] = k
         previous = k
     order[:, previous + 1:] = order[:, previous, None]
@@ -153,8 +159,17 @@ def _confident_steps(correlation, best, steps):
     return distinct & (correlation[:, steps].max(axis=-1) > _CONFIDENT_MAC).all(axis=-1)
 
 
-def _ambiguous_step(k, order, eigenvalues, shapes, last_good):
-    """Optimal assignment at speed k against each mode's last sure shape and trend.
+def _stretch(speeds, k):
+    """The step to speed k over the step before it (1 where ``speeds`` is None: equal steps), by
+    which a mode's last change is extrapolated."""
+    if speeds is None or k < 2 or speeds[k - 1] == speeds[k - 2]:
+        return 1.0
+    return float((speeds[k] - speeds[k - 1]) / (speeds[k - 1] - speeds[k - 2]))
+
+
+def _ambiguous_step(k, order, eigenvalues, shapes, last_good, stretch=1.0):
+    """Optimal assignment at speed k against each mode's last sure shape and trend (its last change
+    times ``stretch``, :func:`_stretch`).
 
     The roots that plainly continue a mode (:func:`_kept_in_place`) keep it first; the others
     are assigned among themselves: where the set of roots changes (two real roots meeting into
@@ -165,7 +180,8 @@ def _ambiguous_step(k, order, eigenvalues, shapes, last_good):
     correlation = mac_matrix(reference, shapes[k])  # (n, n)
     previous = eigenvalues[k - 1, order[k - 1]]
     if k >= 2:
-        predicted = 2 * previous - eigenvalues[k - 2, order[k - 2]]
+        predicted = 2 * previous - eigenvalues[k - 2, order[k - 2]] if stretch == 1.0 else \
+            previous + stretch * (previous - eigenvalues[k - 2, order[k - 2]])
     else:
         predicted = previous
     scale = _EIGEN_WEIGHT_RELATIVE * np.maximum(np.abs(predicted), np.abs(eigenvalues[k]).max() * 1e-3 + 1e-300)

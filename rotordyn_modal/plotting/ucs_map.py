@@ -124,30 +124,27 @@ def _place_labels(ax, labels, first=0, count=0):
                            members=[[labels[k][:2] for k in g[1:]] for g in groups])
 
 
-#: crossings' circles (6 points across) whose centres lie closer than this [points] share a label
+#: crossings' circles (6 points across) whose centres lie closer than this [points] share a
+#: label; side by side (on two stiffness lines) twice as far
 _TOUCHING = 3.0
 
 
 def _touching(ax, crossings, first=0):
     """The crossings' indices (from ``first`` on) in groups whose circles (6 points across) lie
-    on each other (centres closer than :data:`_TOUCHING`, through a chain of such circles), each
-    led by the circle nearest the group's middle: one label names the group ('3939/4184', speeds
-    increasing), its leader to that circle (five circles within 10 pixels at 4e6 and 4.5e6 N/m on
-    the fan's map drew five leaders into one blot, one through another's circle;
-    compressor_on_journals' Kxx and Kyy crossings lie on each other in pairs)."""
+    on each other (centres closer than :data:`_TOUCHING`, side by side twice that, through a
+    chain of such circles: :func:`._labels.touching_groups`), each led by the circle nearest the group's middle: one
+    label names the group ('3939/4184', speeds increasing), its leader to that circle (five
+    circles within 10 pixels at 4e6 and 4.5e6 N/m on the fan's map drew five leaders into one
+    blot, one through another's circle; compressor_on_journals' Kxx and Kyy crossings lie on
+    each other in pairs)."""
+    from ._labels import touching_groups
+
     if not crossings:
         return []
     centres = ax.transData.transform(np.array([c[:2] for c in crossings], float))
-    apart = centres[:, None] - centres[None]
-    points = ax.figure.dpi / 72.0
-    touch = np.hypot(*apart.transpose(2, 0, 1)) < np.where(np.abs(apart[..., 0]) > 0.5, 2 * _TOUCHING, _TOUCHING) * points
-    group = list(range(len(crossings)))
-    for i, j in zip(*np.nonzero(np.triu(touch, 1))):
-        old, new = group[j], group[i]
-        group = [new if g == old else g for g in group]
     groups = []
-    for g in dict.fromkeys(group):
-        members = [k for k in range(len(crossings)) if group[k] == g]
+    points = ax.figure.dpi / 72.0
+    for members in touching_groups(centres, _TOUCHING * points, beside=2 * _TOUCHING * points):
         middle = centres[members].mean(axis=0)
         members.sort(key=lambda k: np.hypot(*(centres[k] - middle)))
         groups.append([first + k for k in members])

@@ -11,6 +11,7 @@ from __future__ import annotations
 import inspect
 
 import numpy as np
+import pytest
 
 from rotordyn_modal.plotting import _labels, campbell, ucs_map
 
@@ -43,11 +44,13 @@ def test_the_campbell_diagram_and_the_ucs_map_group_circles_with_the_one_functio
     assert "touching_groups(" in inspect.getsource(ucs_map._touching)
 
 
-def test_the_motor_pumps_three_overlapping_circles_share_one_label_with_a_clean_leader():
+@pytest.mark.parametrize("example", ["motor_pump_on_mounts", "flexible_pump_on_mounts"])
+def test_overlapping_circles_share_one_label_with_a_clean_leader(example):
     """``ucs-map examples/motor_pump_on_mounts.toml --stiffness 1e5:1e10:41 --plot``: at 1e8 N/m
     the crossings 52517, 56625 and 62212 rpm lie 3.4 points apart on one stiffness line (circles
     6 points across, overlapping); '52517' and '56625' stood side by side and the leader of
-    '56625' crossed mode 2's line (drawn at 150 dpi). On the drawn figure (exact geometry,
+    '56625' crossed mode 2's line (drawn at 150 dpi); flexible_pump_on_mounts.toml over the same
+    stiffness: the leader of '31315' crossed mode 7's line. On the drawn figure (exact geometry,
     ``test_figure_audit27r._ucs_label_problems``): every crossing's speed is written, no label
     leaves the axes or lies over another, no leader crosses a mode's curve beyond its circle
     or passes through the circle of a crossing its label does not name."""
@@ -58,7 +61,7 @@ def test_the_motor_pumps_three_overlapping_circles_share_one_label_with_a_clean_
     import rotordyn_modal as rdm
     from test_figure_audit27r import _ucs_label_problems
 
-    model = rdm.load_model(Path(__file__).resolve().parent.parent / "examples" / "motor_pump_on_mounts.toml")
+    model = rdm.load_model(Path(__file__).resolve().parent.parent / "examples" / f"{example}.toml")
     result = rdm.ucs_map(model, np.geomspace(1e5, 1e10, 41))
     fig = result.plot()
     fig.set_dpi(150)

@@ -1398,6 +1398,39 @@ def _through_circles(start, end, circles) -> bool:
     return bool(np.any(np.hypot(*(start + t[:, None] * d - others).T) < radius))
 
 
+def touching_groups(centres, within, chain=True, beside=None):
+    """Indices of the points ``centres`` (n, 2) [pixels] in groups whose circles read as one:
+    each point closer than ``within`` [pixels] to another of its group (``chain``: through a
+    chain of such points), else (not ``chain``) to the group's first, so that a group stays
+    within one circle; with ``beside`` [pixels], points more than half a pixel apart across
+    (side by side, not on one vertical line) touch closer than that. Groups in the order of
+    their first points, members in the order given; one label names each group (the Campbell
+    diagram's critical speeds, the UCS map's crossings).
+
+    Returns
+    -------
+    list of list of int
+    """
+    centres = np.asarray(centres, float).reshape(-1, 2)
+
+    def touch(g, j):
+        apart = centres[g if chain else g[:1]] - centres[j]
+        reach = within if beside is None else np.where(np.abs(apart[:, 0]) > 0.5, beside, within)
+        return bool(np.any(np.hypot(*apart.T) < reach))
+
+    groups = []
+    for j in range(len(centres)):
+        near = [g for g in groups if touch(g, j)]
+        if not near:
+            groups.append([j])
+            continue
+        near[0].append(j)
+        for g in near[1:] if chain else []:          # j joins groups that were apart
+            near[0] += g
+            groups.remove(g)
+    return [sorted(g) for g in groups]
+
+
 def nearest_in(box, point):
     """The point of ``box`` nearest ``point``: where a leader line from ``point`` meets the box."""
     return min(max(point[0], box[0]), box[2]), min(max(point[1], box[1]), box[3])

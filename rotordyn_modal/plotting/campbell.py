@@ -8,7 +8,7 @@ from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, cuts, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
                       font_points, operating_band, set_if_changed, text_size, _drawn_segments, _overlap, _ROW_SPLIT,
-                      _short_orders)
+                      _short_orders, touching_groups)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -1169,18 +1169,14 @@ class _CampbellLabels:
     def _critical_groups(self):
         """The critical speeds' indices in groups whose circles read as one (each centre closer
         than half :data:`_MARKER_POINTS` to the group's first, in order of speed; not a chain,
-        so that a group stays within one circle), each in order of speed: one label names the
-        group ('2842/2855'), so that two labels never print over each other at one place."""
-        points = np.array([self.to_axes((s, f)) for s, f in zip(*self.critical)]) \
+        so that a group stays within one circle: :func:`~._labels.touching_groups`), each in
+        order of speed: one label names the group ('2842/2855'), so that two labels never print
+        over each other at one place."""
+        points = np.array([self.to_axes((s, f)) for s, f in zip(*self.critical)]).reshape(-1, 2) \
             / np.array([self.to_u, self.to_v])
-        groups, within = [], 0.5 * _MARKER_POINTS * self.points
-        for j in np.argsort(self.critical[0], kind="stable"):
-            home = next((g for g in groups if np.hypot(*(points[j] - points[g[0]])) < within), None)
-            if home is None:
-                groups.append([int(j)])
-            else:
-                home.append(int(j))
-        return sorted(groups, key=lambda g: self.critical[0][g[0]])
+        order = np.argsort(self.critical[0], kind="stable")
+        return [[int(order[k]) for k in group]
+                for group in touching_groups(points[order], 0.5 * _MARKER_POINTS * self.points, chain=False)]
 
 
 def _grouped_beside(targets, height, gap):

@@ -114,40 +114,142 @@ def _place_labels(ax, labels, first=0, count=0):
     (:func:`_touching`)."""
     from ._labels import laid_out_renderer, place_point_labels
 
-    if labels:
-        renderer = laid_out_renderer(ax.figure)
-        groups = [[k] for k in range(first)] + _touching(ax, labels[first:first + count], first) \
+    if not labels:
+        return
+    renderer = laid_out_renderer(ax.figure)
+
+    def place(touching):
+        groups = [[k] for k in range(first)] + _touching(ax, labels[first:first + count], first, touching) \
             + [[k] for k in range(first + count, len(labels))]
         anchors = [labels[g[0]][:2] for g in groups]
         texts = ["/".join(dict.fromkeys(labels[k][2] for k in sorted(g, key=lambda k: labels[k][1]))) for g in groups]
-        place_point_labels(ax, anchors, texts, [labels[g[0]][3] for g in groups], renderer=renderer,
-                           members=[[labels[k][:2] for k in g[1:]] for g in groups])
+        members = [[labels[k][:2] for k in g[1:]] for g in groups]
+        drawn = place_point_labels(ax, anchors, texts, [labels[g[0]][3] for g in groups], renderer=renderer,
+                                   members=members)
+        for text in drawn:
+            _lead_to_nearest(ax, text, members[texts.index(text.get_text())], renderer)
+        return drawn, _crossing_leaders(ax, drawn, {t: m for t, m in zip(texts, members)}, circles)
+
+    circles = [c[:2] for c in labels[first:first + count]]
+    drawn, crossing = place(_TOUCHING)
+    if sum(crossing) and count:
+        # circles that overlap share a label where leaders cross curves or other circles else
+        # (motor_pump_on_mounts' '52517', '56625' and '62212' at 1e8 N/m, 3.4 points apart on one
+        # stiffness line: the leader of '56625' ran through its neighbours' circles and, drawn
+        # at 150 dpi, across mode 2); kept where fewer leaders do, none more across a mode
+        for text in drawn:
+            text.remove()
+        wider, fewer = place(_OVERLAPPING)
+        if fewer[0] <= crossing[0] and sum(fewer) < sum(crossing):
+            return
+        for text in wider:
+            text.remove()
+        place(_TOUCHING)
 
 
-#: crossings' circles (6 points across) whose centres lie closer than this [points] share a label
+def _lead_to_nearest(ax, text, members, renderer):
+    """Join a label naming several circles (``members``: the others', data coordinates) to the
+    one nearest its text, the text staying where it is: its leader then ends at the group's edge
+    and runs through none of the group's circles (the middle one of '52517/56625/62212', three
+    circles 3.4 points apart on one stiffness line, drew a leader through the top circle, across
+    mode 4's line inside it)."""
+    from matplotlib.text import Text
+
+    if not members:
+        return
+    text.update_positions(renderer)
+    box = Text.get_window_extent(text, renderer)
+    points = ax.transData.transform(np.vstack([text.xy] + [list(p) for p in members]))
+    near = [np.hypot(min(max(x, box.x0), box.x1) - x, min(max(y, box.y0), box.y1) - y) for x, y in points]
+    k = int(np.argmin(near))
+    if k == 0:
+        return
+    scale = ax.figure.dpi / 72.0
+    shift = (points[k] - points[0]) / scale
+    end = (min(max(points[k][0], box.x0), box.x1), min(max(points[k][1], box.y0), box.y1))
+    text.xy = tuple(members[k - 1])
+    text.xyann = (text.xyann[0] - shift[0], text.xyann[1] - shift[1])
+    text.arrowprops["relpos"] = ((end[0] - box.x0) / max(box.width, 1e-9), (end[1] - box.y0) / max(box.height, 1e-9))
+
+
+def _crossing_leaders(ax, drawn, members, centres):
+    """How many labels of ``drawn`` (annotations) have leaders (from the text's box to its point)
+    that cross a mode's curve (a line named '<number> <name>') outside the circles of the points
+    they name (``members``: text -> the other points, data coordinates), and how many pass
+    through the circle of another crossing (``centres`` (n, 2), data coordinates): measured on
+    the figure laid out at :data:`SAVED_DPI`, where labels placed at the figure's own dpi may
+    cross a curve they only grazed there."""
+    from matplotlib.text import Text
+
+    from ._labels import _drawn_segments, laid_out_renderer
+
+    fig = ax.figure
+    dpi = fig.get_dpi()
+    fig.set_dpi(SAVED_DPI)
+    try:
+        renderer = laid_out_renderer(fig)
+        frame = ax.get_window_extent(renderer)
+        skip = [line for line in ax.get_lines() if not str(line.get_label())[:1].isdigit()]
+        segments = _drawn_segments(ax, skip, (frame.x0, frame.y0, frame.x1, frame.y1))
+        radius = 0.5 * _CIRCLE_POINTS * SAVED_DPI / 72.0
+        points = ax.transData.transform(np.asarray(centres, float).reshape(-1, 2))
+        crossing = through = 0
+        for text in drawn:
+            text.update_positions(renderer)
+            box = Text.get_window_extent(text, renderer)            # the text's, not its leader's
+            end = ax.transData.transform(text.xy)
+            start = np.array([min(max(end[0], box.x0), box.x1), min(max(end[1], box.y0), box.y1)])
+            circles = np.vstack([end] + [ax.transData.transform(p) for p in members.get(text.get_text(), [])])
+            meets = _meets(start, end, segments) if len(segments) else np.zeros((0, 2))
+            crossing += bool(np.any(np.hypot(*(meets[:, None] - circles[None]).transpose(2, 0, 1)).min(axis=1)
+                                    > radius + 0.5))
+            others = points[np.hypot(*(points[:, None] - circles[None]).transpose(2, 0, 1)).min(axis=1) > radius]
+            way = end - start
+            t = np.clip((others - start) @ way / max(float(way @ way), 1e-12), 0.0, 1.0)
+            through += bool(np.any(np.hypot(*(start + t[:, None] * way - others).T) < radius - 0.5))
+    finally:
+        fig.set_dpi(dpi)
+    return crossing, through
+
+
+def _meets(start, end, segments):
+    """Points (k, 2) [pixels] where the segment ``start -> end`` crosses ``segments`` (n, 4)."""
+    d = end - start
+    p, e = segments[:, :2], segments[:, 2:] - segments[:, :2]
+    denominator = d[0] * e[:, 1] - d[1] * e[:, 0]
+    w = p - start
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (w[:, 0] * e[:, 1] - w[:, 1] * e[:, 0]) / denominator
+        u = (w[:, 0] * d[1] - w[:, 1] * d[0]) / denominator
+    hit = (denominator != 0) & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
+    return start + t[hit, None] * d
+
+
+#: crossings' circles (6 points across) whose centres lie closer than this [points] share a
+#: label; side by side (on two stiffness lines) twice as far
 _TOUCHING = 3.0
+#: ... and, where some leader crosses a curve so, closer than this (circles that overlap)
+_OVERLAPPING, _CIRCLE_POINTS = 6.0, 6.0
+#: the figures are saved at this resolution [dpi] (``save_figure``), where leaders are checked
+SAVED_DPI = 150.0
 
 
-def _touching(ax, crossings, first=0):
+def _touching(ax, crossings, first=0, touching=_TOUCHING):
     """The crossings' indices (from ``first`` on) in groups whose circles (6 points across) lie
-    on each other (centres closer than :data:`_TOUCHING`, through a chain of such circles), each
-    led by the circle nearest the group's middle: one label names the group ('3939/4184', speeds
-    increasing), its leader to that circle (five circles within 10 pixels at 4e6 and 4.5e6 N/m on
-    the fan's map drew five leaders into one blot, one through another's circle;
-    compressor_on_journals' Kxx and Kyy crossings lie on each other in pairs)."""
+    on each other (centres closer than ``touching`` [points], side by side twice that, through a
+    chain of such circles: :func:`._labels.touching_groups`), each led by the circle nearest the group's middle: one
+    label names the group ('3939/4184', speeds increasing), its leader to that circle (five
+    circles within 10 pixels at 4e6 and 4.5e6 N/m on the fan's map drew five leaders into one
+    blot, one through another's circle; compressor_on_journals' Kxx and Kyy crossings lie on
+    each other in pairs)."""
+    from ._labels import touching_groups
+
     if not crossings:
         return []
     centres = ax.transData.transform(np.array([c[:2] for c in crossings], float))
-    apart = centres[:, None] - centres[None]
-    points = ax.figure.dpi / 72.0
-    touch = np.hypot(*apart.transpose(2, 0, 1)) < np.where(np.abs(apart[..., 0]) > 0.5, 2 * _TOUCHING, _TOUCHING) * points
-    group = list(range(len(crossings)))
-    for i, j in zip(*np.nonzero(np.triu(touch, 1))):
-        old, new = group[j], group[i]
-        group = [new if g == old else g for g in group]
     groups = []
-    for g in dict.fromkeys(group):
-        members = [k for k in range(len(crossings)) if group[k] == g]
+    points = ax.figure.dpi / 72.0
+    for members in touching_groups(centres, touching * points, beside=max(touching, 2 * _TOUCHING) * points):
         middle = centres[members].mean(axis=0)
         members.sort(key=lambda k: np.hypot(*(centres[k] - middle)))
         groups.append([first + k for k in members])

@@ -148,3 +148,25 @@ def test_a_real_root_beside_a_large_one_is_polished():
     assert values[0].imag == 0.0 and abs(values[0].real - slow) < 1e-15 * abs(slow)
     assert left[0] < 1e-9
     assert values[1] == -1.0 and values[2] == -2.0                  # exact already: untouched
+
+
+def test_defective_double_roots_are_polished_to_their_mean(tmp_path):
+    """Friswell 5.9.4 as ROSS builds it, at rest: kxy alone makes K block-triangular, so every root
+    is a defective double root (a Jordan block), exactly a root of the same rotor with kxy = 0.
+    The solve splits each by the square root of its round-off; the estimate took them for exact
+    (1e-12). Now nearly parallel shapes of roots this close are estimated at their split, polished
+    as a pair and made their mean: the lowest ten within 1e-12 of the uncoupled rotor's, in `modes`
+    and in the Campbell diagram (main: 1.9e-7 off)."""
+    from rotordyn_modal.cli import main
+
+    source = Path(__file__).parent / "data" / "ross" / "friswell_5_9_4.toml"
+    path = tmp_path / "friswell_5_9_4.toml"
+    assert main(["import-ross", str(source), "--out", str(path), "--quiet"]) == 0
+    model = rdm.load_model(path)
+    uncoupled = model.with_values({f"bearings.{b.name}.stiffness": [1.0e6, 1.0e6] for b in model.bearings})
+    truth = np.asarray(rdm.modal(uncoupled, 0.0).eigenvalues)
+    result = rdm.modal(model, 0.0)
+    sweep = rdm.campbell(model, np.array([0.0, 10.0]), orders=(1,), critical=False)
+    for roots in (result.eigenvalues[result.oscillatory][:10], sweep.eigenvalues[0][sweep.oscillatory[0]][:10]):
+        nearest = truth[[int(np.argmin(np.abs(truth - lam))) for lam in roots]]
+        assert np.max(np.abs(roots - nearest) / np.abs(nearest)) < 1e-12

@@ -703,6 +703,8 @@ def _newton_step(s, x, Mx, Dx, Kx, branches=None, parts=None) -> np.ndarray:
     own residual ``T(s) x`` says how far; its projection on the shape (a Rayleigh-quotient step)
     measures a single root's error to a few per cent, and on the pair's plane a close pair's
     (where the shape alone saw a third of it). Its own round-off is :func:`pencil_round_off`'s.
+    Two roots within :data:`_DEFECTIVE_GAP` with nearly parallel shapes may be one defective root
+    that round-off split (a Jordan block has one shape): at least twice their distance.
 
     Parameters
     ----------
@@ -740,6 +742,10 @@ def _newton_step(s, x, Mx, Dx, Kx, branches=None, parts=None) -> np.ndarray:
     if plane.any():
         pair = _plane_step(s, x, Mx, Dx, Kx, Bx, value, slope, near, (xm, xd, xk), xb)
         out = np.where(plane & np.isfinite(pair), pair, out)
+        # nearly parallel shapes of two roots this close: one defective root split by round-off
+        split = plane & ~np.isfinite(pair) & (gap < _DEFECTIVE_GAP)
+        if split.any():
+            out = np.where(split, np.maximum(out, 2.0 * gap * np.abs(s)), out)
     return np.where(np.isfinite(out), out, np.inf)
 
 
@@ -792,6 +798,10 @@ def _plane_step(s, x, Mx, Dx, Kx, Bx, value, slope, near, own, own_branches):
 #: plane (farther, the shape alone): over 40 random ROSS rotors the error was at most 2.0 times the
 #: estimate with the plane for every root within its own size, 3.9 times with it within 1e-2 only
 _PLANE_GAP = 1.0
+#: the largest distance (relative) between two roots with nearly parallel shapes that
+#: :func:`_newton_step` takes for the split of one defective root (a Jordan block: Friswell 5.9.4 at
+#: rest, whose double roots round-off splits by 3.8e-7), estimated at twice their distance
+_DEFECTIVE_GAP = 1e-5
 #: the least width (sine of the angle) of a root's shape and its neighbour's for
 #: :func:`_newton_step` to take their plane (nearly parallel shapes: the shape alone)
 _PLANE_WIDTH = 1e-2
@@ -925,10 +935,13 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
             continue
         spent += polish_work(len(run), n)
         if len(run) > 1:
+            defective = len(run) == 2 and _parallel(shapes[run[0]], shapes[run[1]])
             found = pair_polished(mass, damping, stiffness, values[run], shapes[run], branches)
             if found is not None:
                 values[run], shapes[run], bound[run] = found
                 polished[run] = True
+                if defective:
+                    _one_defective_root(values, bound, run)
                 if forms is not None and len(run) == 2:
                     shapes[run] = resolve_repeated(values[run][None], shapes[run][None], forms,
                                                    None if variant is None else np.array([variant]), groups=False)[0]
@@ -955,6 +968,33 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
     if whirl is not None and polished.any():        # never above the solve's
         whirl[polished] = np.minimum(whirl[polished], polished_ratio_round_off(values, polished, bound))
     return bound
+
+
+def _parallel(x, y) -> bool:
+    """Whether two shapes (n,) are nearly parallel: the sine of their angle below
+    :data:`_PLANE_WIDTH` (two roots of one defective root, a Jordan block, have one shape)."""
+    return bool(1.0 - abs(np.vdot(x, y)) ** 2 / (np.vdot(x, x).real * np.vdot(y, y).real) < _PLANE_WIDTH ** 2)
+
+
+def _one_defective_root(values, bound, run):
+    """The two roots ``values[run]`` of a polished pair whose shapes were nearly parallel
+    (:func:`_parallel`) made their mean in place where they are within :data:`_DEFECTIVE_SPLIT` of
+    each other: one defective double root (a Jordan block), which round-off splits by the square
+    root of its own (the block Newton's invariant pair is exact to round-off, the eigenvalues of its
+    2 x 2 ``S`` to its square root; their mean, the half trace of ``S``, to round-off). Friswell
+    5.9.4 at rest, cross-coupled bearings (K block-triangular): its roots 1.9e-7 off from the solve,
+    7e-12 from the pair's polish, exact from their mean; ``bound`` there at least half the split."""
+    a, b = values[run]
+    mean = 0.5 * (a + b)
+    split = abs(a - b) / abs(mean) if mean != 0 else np.inf
+    if split <= _DEFECTIVE_SPLIT:
+        values[run] = mean
+        bound[run] = np.maximum(bound[run], 0.5 * split)
+
+
+#: the largest split (relative) of a polished pair with one shape taken for one defective root
+#: (:func:`_one_defective_root`): the square root of double precision's round-off
+_DEFECTIVE_SPLIT = float(np.sqrt(np.finfo(float).eps))
 
 
 def _real_root_polished(values, shapes, bound, a, starts, mass, damping, stiffness, branches=None) -> bool:

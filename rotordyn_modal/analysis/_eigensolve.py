@@ -1004,6 +1004,8 @@ def _real_root_polished(values, shapes, bound, a, starts, mass, damping, stiffne
     any other root's start ``starts`` (m,) (not another root's: a cluster's roots are polished one
     by one); returns whether it was."""
     start = values[a].real
+    if branches is not None and np.any(np.abs(1.0 + start * np.asarray(branches[1])) <= _POLE):
+        return False           # at a branch's pole: a root of its own states, not of the pencil
     found = _real_newton(mass, damping, stiffness, branches, start, np.real(shapes[a]))
     if found is None or not abs(found[0] - start) <= _REAL_REACH * bound[a] * abs(start):
         return False
@@ -1084,6 +1086,10 @@ def _real_newton(mass, damping, stiffness, branches, root, shape):
 _REAL_STEPS = 6
 
 
+#: ``|1 + s tau|`` at or below which a real root ``s`` is at a Maxwell branch's pole ``-1/tau``
+#: (:func:`_real_root_polished`: rubber_mounts with a 1e-12 s branch has roots 1.3e-6 from the
+#: 0.02 s branches' pole, its own states' -50 1/s split by round-off, which no step on the pencil reaches)
+_POLE = 1e-3
 #: how far a real root's polish may move it, in its bound (:func:`pencil_round_off`, measured 0.01 to
 #: 0.35 of the error): farther, Newton's steps found another root
 _REAL_REACH = 100.0

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
+from rotordyn_modal.analysis import _eigensolve
 from rotordyn_modal.analysis import campbell as campbell_module
 
 matplotlib.use("Agg")
@@ -40,6 +41,22 @@ def fast_branch(tmp_path_factory):
     return model, result
 
 
+def _no_polish(monkeypatch):
+    """No root polished (a polish budget of 0, as past the budget of a big machine): every whirl
+    ratio's round-off is the solve's."""
+    monkeypatch.setattr(_eigensolve, "polish_budget", lambda n: 0.0)
+
+
+@pytest.fixture(scope="module")
+def unpolished(fast_branch):
+    """:func:`fast_branch`'s sweep with no root polished (:func:`_no_polish`)."""
+    model, _ = fast_branch
+    with pytest.MonkeyPatch.context() as patch, warnings.catch_warnings():
+        _no_polish(patch)
+        warnings.simplefilter("ignore")
+        return model, rdm.campbell(model, rdm.rpm(SPEEDS_RPM), orders=(1,), critical=False)
+
+
 def _modal_label(model, speed, root):
     """`modes`' whirl label of the root nearest ``root`` at ``speed`` [rad/s]."""
     r = rdm.modal(model, speed)
@@ -50,10 +67,29 @@ def _modal_label(model, speed, root):
 
 def test_campbell_labels_whirl_as_modes_does(fast_branch):
     """At each of 7 speeds every mode's Campbell label equals `modes`' label of the same root
-    (`modal` at that speed, the root matched by value). On main mode 1 read 'backward' at rest
-    and 'forward' at 500-3000 rpm while `modes` said 'none' (|ratio| 2e-3-1.2e-2 within its
-    round-off 3e-2): 7 disagreements."""
+    (`modal` at that speed, the root matched by value). Every mode is polished here, and a
+    polished root's whirl round-off is its own (below 1e-6, not the solve's 3e-2): mode 1, whose
+    ratio grows linearly from 2.2e-3 at 500 rpm to 1.3e-2 at 3000 rpm (a 50-digit solve's,
+    tests/test_roots30.py), reads forward in both, as its ratio says."""
     model, result = fast_branch
+    compared = 0
+    for k, speed in enumerate(result.speeds):
+        for m in np.flatnonzero(result.oscillatory[k]):
+            label, noise = _modal_label(model, speed, result.eigenvalues[k, m])
+            assert result.whirl[k, m] == label, (SPEEDS_RPM[k], m + 1)
+            assert noise < 1e-6 and result.whirl_round_off[k, m] < 1e-6
+            compared += 1
+    assert compared == 6 * len(SPEEDS_RPM)
+    assert (result.whirl[1:, 0] == "forward").all()
+
+
+def test_campbell_labels_whirl_as_modes_does_without_the_polish(unpolished, monkeypatch):
+    """The same with no root polished (the solve's round-off, as past a big machine's polish
+    budget): on main before the one rule mode 1 read 'backward' at rest and 'forward' at
+    500-3000 rpm while `modes` said 'none' (|ratio| 2e-3-1.2e-2 within its round-off 3e-2): 7
+    disagreements."""
+    _no_polish(monkeypatch)
+    model, result = unpolished
     compared = flipped = 0
     for k, speed in enumerate(result.speeds):
         for m in np.flatnonzero(result.oscillatory[k]):
@@ -62,8 +98,8 @@ def test_campbell_labels_whirl_as_modes_does(fast_branch):
             compared += 1
             flipped += abs(result.whirl_ratios[k, m]) > 1e-3 and label == "none"
     assert compared == 6 * len(SPEEDS_RPM)
-    # the rule decided: ratios above 1e-3 within the solve's round-off (mode 1 at 500-3000 rpm; at
-    # rest its polished shape's ratio is 1e-15, where the unpolished one read -2e-3)
+    # the rule decided: ratios above 1e-3 within the solve's round-off (mode 1 at 0-3000 rpm: at
+    # rest its unpolished ratio reads -2e-3)
     assert flipped >= 6
 
 
@@ -81,12 +117,12 @@ def test_stability_labels_whirl_as_modes_does(fast_branch):
                 assert result.whirl[k, m] == r.whirl[i], (SPEEDS_RPM[k], m + 1)
 
 
-def test_the_figure_draws_no_whirl_change_that_is_round_off(fast_branch):
-    """Mode 1's ratio went from -2e-3 at rest (1e-15 since the solve's roots are polished past
-    1e-9) to +2e-3 at 500 rpm, both within its round-off (3e-2): no whirl throughout, so `whirl_changes` has none for it (main had backward ->
-    none -> forward inside the first step) and the figure draws it in one style, its legend
-    saying that 'no whirl' includes the ratios within round-off."""
-    _, result = fast_branch
+def test_the_figure_draws_no_whirl_change_that_is_round_off(unpolished):
+    """Unpolished (:func:`_no_polish`), mode 1's ratio went from -2e-3 at rest to +2e-3 at 500
+    rpm, both within its round-off (3e-2): no whirl throughout, so `whirl_changes` has none for it
+    (main had backward -> none -> forward inside the first step) and the figure draws it in one
+    style, its legend saying that 'no whirl' includes the ratios within round-off."""
+    _, result = unpolished
     assert np.all(result.whirl[:, 0] == "none")
     assert len(result.whirl_changes()[0][0]) == 0
     fig = result.plot()

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import ctypes
 import functools
+import warnings
 
 import numpy as np
 
@@ -19,7 +20,7 @@ from ._polish_plan import POLISH_WORK, _clusters, _nearest_other, polish_budget,
 
 __all__ = ["REPEATED_TOLERANCE", "TIE_TOLERANCE", "eig", "eigenvalues_of", "frequency_order", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
            "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "POLISH_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots", "branch_terms",
-           "POLISH_WORK", "polish_work", "polish_budget"]
+           "POLISH_WORK", "polish_work", "polish_budget", "polished_ratio_round_off"]
 
 
 def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False, mass=None):
@@ -650,22 +651,22 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
     Mx, Dx, Kx = mass @ parts, damping @ parts, stiffness @ parts
     Mx, Dx, Kx = Mx[..., :m] + 1j * Mx[..., m:], Dx[..., :m] + 1j * Dx[..., m:], Kx[..., :m] + 1j * Kx[..., m:]
     slope = np.einsum("...im,...im->...m", x.conj(), 2.0 * s[..., None, :] * Mx + Dx)
+    parts = None
     if branches is not None:
-        stiff, times = np.asarray(branches[0]), np.asarray(branches[1])
+        stiff = np.asarray(branches[0])
         k = stiff.shape[-1]
-        xs, As = x[..., None, :k, :], a[..., None, :k, :]                            # (..., 1, k, m)
-        forms = np.einsum("...tim,...tim->...tm", xs.conj(), stiff @ xs)               # (..., b, m)
+        As = a[..., None, :k, :]                                                      # (..., 1, k, m)
         sizes = np.einsum("...tim,...tim->...tm", As, np.abs(stiff) @ As)
-        tau, root = times[:, None], s[..., None, :]
+        parts = _branch_parts(s, x, branches)             # shared with the Newton step's estimate
         with np.errstate(divide="ignore", invalid="ignore"):
-            terms = terms + np.sum(np.abs(root * tau / (1.0 + root * tau)) * sizes, axis=-2)
-            slope = slope + np.sum(tau / (1.0 + root * tau) ** 2 * forms, axis=-2)
+            terms = terms + np.sum(np.abs(parts[1]) * sizes, axis=-2)
+            slope = slope + np.sum(parts[2] * parts[3], axis=-2)
     derivative = np.abs(slope)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         out = np.finfo(float).eps * terms / (size * derivative)
         if noise is not None:
             out = np.maximum(out, noise / size)
-        step = _newton_step(s, x, Mx, Dx, Kx, branches) / size
+        step = _newton_step(s, x, Mx, Dx, Kx, branches, parts) / size
     out = np.nan_to_num(out, nan=np.inf, posinf=np.inf)
     out = np.where(np.isfinite(out) & np.isfinite(step), np.maximum(out, step), out)
     if branches is not None:            # a root of the branches' own states (at a pole, s = -1/tau, or with
@@ -673,7 +674,23 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
     return np.where(size > 0, out, 0.0)
 
 
-def _newton_step(s, x, Mx, Dx, Kx, branches=None) -> np.ndarray:
+def _branch_parts(s, x, branches):
+    """The Maxwell branches' terms at roots ``s`` (..., m) on shapes ``x`` (..., n, m), for
+    :func:`pencil_round_off` and :func:`_newton_step`: ``K_t x`` (..., b, k, m) on the first ``k``
+    coordinates, the factors ``s tau_t / (1 + s tau_t)`` and their derivatives ``tau_t / (1 + s
+    tau_t)^2`` (..., b, m), and the forms ``x^H K_t x`` (..., b, m) (``branches`` as
+    :func:`branch_terms`)."""
+    stiff, times = np.asarray(branches[0]), np.asarray(branches[1])
+    k = stiff.shape[-1]
+    Bx = stiff @ x[..., None, :k, :]                                    # (..., b, k, m)
+    tau, at = times[:, None], s[..., None, :]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        value, slope = at * tau / (1.0 + at * tau), tau / (1.0 + at * tau) ** 2             # (..., b, m)
+    xb = np.einsum("...tim,...im->...tm", Bx, x[..., :k, :].conj())   # x^H K_t x, (..., b, m)
+    return Bx, value, slope, xb
+
+
+def _newton_step(s, x, Mx, Dx, Kx, branches=None, parts=None) -> np.ndarray:
     """The size of the first Newton correction of each root [1/s], shape (..., m): the smaller
     root ``mu`` of ``det(Q^H T(s) Q + mu Q^H T'(s) Q) = 0`` on the plane ``Q`` of the root's shape
     and its nearest neighbour's (by frequency, the closer in the complex plane of the two beside
@@ -686,6 +703,8 @@ def _newton_step(s, x, Mx, Dx, Kx, branches=None) -> np.ndarray:
     own residual ``T(s) x`` says how far; its projection on the shape (a Rayleigh-quotient step)
     measures a single root's error to a few per cent, and on the pair's plane a close pair's
     (where the shape alone saw a third of it). Its own round-off is :func:`pencil_round_off`'s.
+    Two roots within :data:`_DEFECTIVE_GAP` with nearly parallel shapes may be one defective root
+    that round-off split (a Jordan block has one shape): at least twice their distance.
 
     Parameters
     ----------
@@ -696,19 +715,17 @@ def _newton_step(s, x, Mx, Dx, Kx, branches=None) -> np.ndarray:
         ``M x``, ``D x`` and ``K x``.
     branches : (ndarray (b, k, k), ndarray (b,)), optional
         Maxwell branches (:func:`branch_terms`).
+    parts : tuple, optional
+        :func:`_branch_parts` of ``s``, ``x`` and ``branches`` where the caller has them.
 
     Returns
     -------
     ndarray, shape (..., m) [1/s]
     """
     m = x.shape[-1]
-    Bx = value = slope = None
+    Bx = value = slope = xb = None
     if branches is not None:           # the branches' terms at each root, on the shapes
-        stiff, times = np.asarray(branches[0]), np.asarray(branches[1])
-        k = stiff.shape[-1]
-        Bx = stiff @ x[..., None, :k, :]                                    # (..., b, k, m)
-        tau, at = times[:, None], s[..., None, :]
-        value, slope = at * tau / (1.0 + at * tau), tau / (1.0 + at * tau) ** 2             # (..., b, m)
+        Bx, value, slope, xb = _branch_parts(s, x, branches) if parts is None else parts
 
     def form(a, b):                                   # a^H b over the coordinates, (..., m)
         return np.einsum("...im,...im->...m", a.conj(), b)
@@ -716,7 +733,6 @@ def _newton_step(s, x, Mx, Dx, Kx, branches=None) -> np.ndarray:
     xm, xd, xk = form(x, Mx), form(x, Dx), form(x, Kx)
     a11, b11 = s * s * xm + s * xd + xk, 2.0 * s * xm + xd
     if branches is not None:
-        xb = np.einsum("...tim,...im->...tm", Bx, x[..., :k, :].conj())   # x^H K_t x, (..., b, m)
         a11, b11 = a11 + np.sum(value * xb, axis=-2), b11 + np.sum(slope * xb, axis=-2)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         out = np.abs(a11 / b11)
@@ -724,8 +740,12 @@ def _newton_step(s, x, Mx, Dx, Kx, branches=None) -> np.ndarray:
         gap = np.abs(np.take_along_axis(s, near, axis=-1) - s) / np.abs(s)
     plane = (gap < _PLANE_GAP) & (near != np.arange(m))
     if plane.any():
-        pair = _plane_step(s, x, Mx, Dx, Kx, Bx, value, slope, near, (xm, xd, xk), xb if branches is not None else None)
+        pair = _plane_step(s, x, Mx, Dx, Kx, Bx, value, slope, near, (xm, xd, xk), xb)
         out = np.where(plane & np.isfinite(pair), pair, out)
+        # nearly parallel shapes of two roots this close: one defective root split by round-off
+        split = plane & ~np.isfinite(pair) & (gap < _DEFECTIVE_GAP)
+        if split.any():
+            out = np.where(split, np.maximum(out, 2.0 * gap * np.abs(s)), out)
     return np.where(np.isfinite(out), out, np.inf)
 
 
@@ -778,6 +798,10 @@ def _plane_step(s, x, Mx, Dx, Kx, Bx, value, slope, near, own, own_branches):
 #: plane (farther, the shape alone): over 40 random ROSS rotors the error was at most 2.0 times the
 #: estimate with the plane for every root within its own size, 3.9 times with it within 1e-2 only
 _PLANE_GAP = 1.0
+#: the largest distance (relative) between two roots with nearly parallel shapes that
+#: :func:`_newton_step` takes for the split of one defective root (a Jordan block: Friswell 5.9.4 at
+#: rest, whose double roots round-off splits by 3.8e-7), estimated at twice their distance
+_DEFECTIVE_GAP = 1e-5
 #: the least width (sine of the angle) of a root's shape and its neighbour's for
 #: :func:`_newton_step` to take their plane (nearly parallel shapes: the shape alone)
 _PLANE_WIDTH = 1e-2
@@ -844,7 +868,8 @@ def round_off_at(form, speed, values, shapes):
     return bound, damping, stiffness, branches
 
 
-def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None, branches=None):
+def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None, branches=None,
+                  whirl=None):
     """The roots of one speed whose round-off ``bound`` (:func:`pencil_round_off`) exceeds
     :data:`POLISH_LEVEL`, polished in place on the quadratic pencil: those whose neighbour in
     frequency is closer than it together, as a cluster (:func:`_clusters`,
@@ -869,6 +894,9 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
         Maxwell branches (:func:`branch_terms`): every root polished on the rational pencil
         (single roots by :func:`._lowest_newton.rational_root_polished`, clusters by the same
         block Newton steps with the branches' terms).
+    whirl : ndarray, shape (m,), optional
+        How far round-off can move each root's whirl ratio (:func:`ratio_round_off`, the solve's):
+        the polished roots' replaced in place by their own (:func:`polished_ratio_round_off`).
 
     Returns
     -------
@@ -876,7 +904,8 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
     polish could not converge keeps its bound; so do both roots of a pair it could not separate)
     """
     bound = np.array(bound, dtype=float)
-    wanted = np.flatnonzero((bound > POLISH_LEVEL) & (np.asarray(values).imag > 0))
+    # a real root (a relaxation) too, one at a time (below), not a zero root
+    wanted = np.flatnonzero((bound > POLISH_LEVEL) & (np.asarray(values).imag >= 0) & (np.asarray(values) != 0))
     if not len(wanted):
         return bound
     from ._lowest_newton import pair_polished, rational_root_polished, root_polished
@@ -885,17 +914,34 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
                                 for matrix in (mass, damping, stiffness))
     n = mass.shape[0]
     spent, budget = 0.0, polish_budget(n)
-    runs = _clusters(values, bound, wanted[np.argsort(values[wanted].imag)])
-    # those a frequency's sixth digit could read wrong first (the budget is spent lowest first)
-    runs.sort(key=lambda run: not np.any(bound[run] > INEXACT_LEVEL))
+    polished = np.zeros(len(bound), dtype=bool)
+    # the complex roots' clusters and the real roots' apart (a real root is never polished with a complex one)
+    real = values[wanted].imag == 0
+    runs = [run for part in (wanted[~real], wanted[real]) if len(part)
+            for run in _clusters(values, bound, part[np.lexsort((values[part].real, values[part].imag))])]
+    # those a frequency's sixth digit could read wrong first, the modes before the real roots (the
+    # budget is spent lowest first)
+    runs.sort(key=lambda run: (not np.any(bound[run] > INEXACT_LEVEL), bool(np.any(values[run].imag == 0))))
     for run in runs:
-        if spent + polish_work(len(run), n) > budget:      # left as the solve gave it (warned of, with its bound)
+        alone = bool(values[run[0]].imag == 0)       # real arithmetic, one at a time: a quarter of a complex root's
+        work = len(run) * polish_work(1, n) / 4.0 if alone else polish_work(len(run), n)
+        if spent + work > budget:      # left as the solve gave it (warned of, with its bound)
+            continue
+        if alone:      # each kept where it is its own
+            spent += work
+            starts = values.copy()
+            for a in run:
+                polished[a] = _real_root_polished(values, shapes, bound, a, starts, mass, damping, stiffness, branches)
             continue
         spent += polish_work(len(run), n)
         if len(run) > 1:
+            defective = len(run) == 2 and _parallel(shapes[run[0]], shapes[run[1]])
             found = pair_polished(mass, damping, stiffness, values[run], shapes[run], branches)
             if found is not None:
                 values[run], shapes[run], bound[run] = found
+                polished[run] = True
+                if defective:
+                    _one_defective_root(values, bound, run)
                 if forms is not None and len(run) == 2:
                     shapes[run] = resolve_repeated(values[run][None], shapes[run][None], forms,
                                                    None if variant is None else np.array([variant]), groups=False)[0]
@@ -907,6 +953,7 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
             found = rational_root_polished(mass, damping, stiffness, branches, values[a], shapes[a])
         if found is not None:
             values[a], shapes[a], bound[a] = found
+            polished[a] = True
             continue
         # one root's steps that do not converge: a neighbour near its round-off (a gap of a few
         # times it slows them to a crawl) polished with it, as a pair
@@ -917,7 +964,167 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
         found = pair_polished(mass, damping, stiffness, values[pair], shapes[pair], branches)
         if found is not None:
             values[pair], shapes[pair], bound[pair] = found
+            polished[pair] = True
+    if whirl is not None and polished.any():        # never above the solve's
+        whirl[polished] = np.minimum(whirl[polished], polished_ratio_round_off(values, polished, bound))
     return bound
+
+
+def _parallel(x, y) -> bool:
+    """Whether two shapes (n,) are nearly parallel: the sine of their angle below
+    :data:`_PLANE_WIDTH` (two roots of one defective root, a Jordan block, have one shape)."""
+    return bool(1.0 - abs(np.vdot(x, y)) ** 2 / (np.vdot(x, x).real * np.vdot(y, y).real) < _PLANE_WIDTH ** 2)
+
+
+def _one_defective_root(values, bound, run):
+    """The two roots ``values[run]`` of a polished pair whose shapes were nearly parallel
+    (:func:`_parallel`) made their mean in place where they are within :data:`_DEFECTIVE_SPLIT` of
+    each other: one defective double root (a Jordan block), which round-off splits by the square
+    root of its own (the block Newton's invariant pair is exact to round-off, the eigenvalues of its
+    2 x 2 ``S`` to its square root; their mean, the half trace of ``S``, to round-off). Friswell
+    5.9.4 at rest, cross-coupled bearings (K block-triangular): its roots 1.9e-7 off from the solve,
+    7e-12 from the pair's polish, exact from their mean; ``bound`` there at least half the split."""
+    a, b = values[run]
+    mean = 0.5 * (a + b)
+    split = abs(a - b) / abs(mean) if mean != 0 else np.inf
+    if split <= _DEFECTIVE_SPLIT:
+        values[run] = mean
+        bound[run] = np.maximum(bound[run], 0.5 * split)
+
+
+#: the largest split (relative) of a polished pair with one shape taken for one defective root
+#: (:func:`_one_defective_root`): the square root of double precision's round-off
+_DEFECTIVE_SPLIT = float(np.sqrt(np.finfo(float).eps))
+
+
+def _real_root_polished(values, shapes, bound, a, starts, mass, damping, stiffness, branches=None) -> bool:
+    """The real root ``values[a]`` (a relaxation of rubber mounts, an overdamped root) polished in
+    place with its shape and ``bound`` (:func:`refined_pairs`) by :func:`_real_newton`, kept only
+    where its steps converge within :data:`_REAL_REACH` times its bound of its start, nearer it than
+    any other root's start ``starts`` (m,) (not another root's: a cluster's roots are polished one
+    by one); returns whether it was."""
+    start = values[a].real
+    if branches is not None and np.any(np.abs(1.0 + start * np.asarray(branches[1])) <= _POLE):
+        return False           # at a branch's pole: a root of its own states, not of the pencil
+    found = _real_newton(mass, damping, stiffness, branches, start, np.real(shapes[a]))
+    if found is None or not abs(found[0] - start) <= _REAL_REACH * bound[a] * abs(start):
+        return False
+    if np.argmin(np.abs(starts - found[0])) != a:
+        return False
+    values[a], shapes[a], bound[a] = found[0] + 0j, found[1], found[2]
+    return True
+
+
+def _real_newton(mass, damping, stiffness, branches, root, shape):
+    """A real root ``root`` [1/s] of the pencil ``T(s) = M s^2 + D s + K`` (+ the Maxwell branches'
+    ``sum_t K_t s tau_t / (1 + s tau_t)`` on the first ``k`` coordinates, ``branches`` as
+    :func:`branch_terms`) with its real shape (n,), polished in real arithmetic (a quarter of a
+    complex root's work): chord steps of Newton's bordered system ``[[T(s), T'(s) x], [x0^T, 0]]``
+    (factored once), the residual's ``K x`` and ``K_t x`` summed exactly
+    (:func:`._lowest_newton._exact_sums`), the shape kept as a double-double, the rest in
+    ``longdouble``, as :func:`._lowest_newton.rational_root_polished` polishes a complex root.
+
+    Returns
+    -------
+    None where a step fails or the steps do not converge below ``_lowest_newton._PROMISED``, else
+    root : float; shape : ndarray, shape (n,), unit, its sign that of ``shape``; left : float, the
+    error left (relative)
+    """
+    import scipy.linalg
+
+    from ._lowest_newton import _EXTENDED, _PROMISED, _exact_sums, _round_off_of
+
+    n = mass.shape[0]
+    x = np.asarray(shape, dtype=float) / np.linalg.norm(shape)
+    start, s = x.copy(), float(root)
+    K_t, times = (np.zeros((0, 0, 0)), np.zeros(0)) if branches is None else (np.asarray(branches[0], float), np.asarray(branches[1], float))
+    k = K_t.shape[-1]
+    T = mass * s * s + damping * s + stiffness
+    slope = (2.0 * s * mass + damping) @ x
+    for K, tau in zip(K_t, times):
+        T[:k, :k] += s * tau / (1.0 + s * tau) * K
+        slope[:k] += tau / (1.0 + s * tau) ** 2 * (K @ x[:k])
+    J = np.zeros((n + 1, n + 1))
+    J[:n, :n], J[:n, n], J[n, :n] = T, slope, start
+    if not np.all(np.isfinite(J)):
+        return None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+            lu = scipy.linalg.lu_factor(J, check_finite=False)
+    except (ValueError, np.linalg.LinAlgError):
+        return None
+    low, moved = np.zeros(n), np.inf             # x + low: the shape as a double-double
+    stacked = K_t.reshape(len(times) * k, k)     # (b k, k): every branch's rows
+    for _ in range(_REAL_STEPS):
+        sw, xw = _EXTENDED(s), x.astype(_EXTENDED) + low.astype(_EXTENDED)
+        residual = (mass.astype(_EXTENDED) @ xw) * sw * sw + (damping.astype(_EXTENDED) @ xw) * sw \
+            + _exact_sums(stiffness, x[:, None])[:, 0].real.astype(_EXTENDED) + stiffness.astype(_EXTENDED) @ low
+        if len(times):
+            products = (_exact_sums(stacked, x[:k, None])[:, 0].real.astype(_EXTENDED)
+                        + stacked.astype(_EXTENDED) @ low[:k]).reshape(len(times), k)
+            residual[:k] += (sw * times.astype(_EXTENDED) / (1 + sw * times.astype(_EXTENDED))) @ products
+        d = scipy.linalg.lu_solve(lu, -np.append(residual.astype(float), 0.0), check_finite=False)
+        if not np.all(np.isfinite(d)):
+            return None
+        more = low + d[:n]
+        high = x + more
+        x, low = high, more - (high - x)                   # two-sum: x + low the exact sum
+        s += d[n]
+        moved = abs(d[n]) / abs(s)
+        if moved <= 4 * np.finfo(float).eps:
+            break
+    if not moved <= _PROMISED:
+        return None
+    unit = x / np.linalg.norm(x)
+    unit = unit if unit @ shape >= 0 else -unit
+    inertia = float(_round_off_of(mass, damping, np.array([s]), unit[None])[0]) * np.finfo(_EXTENDED).eps / np.finfo(float).eps
+    return s, unit, max(moved, inertia, 4 * np.finfo(float).eps)
+
+
+#: chord steps at most of :func:`_real_newton` (from a root 1e-4 off: 1e-8, 1e-12, 1e-16)
+_REAL_STEPS = 6
+
+
+#: ``|1 + s tau|`` at or below which a real root ``s`` is at a Maxwell branch's pole ``-1/tau``
+#: (:func:`_real_root_polished`: rubber_mounts with a 1e-12 s branch has roots 1.3e-6 from the
+#: 0.02 s branches' pole, its own states' -50 1/s split by round-off, which no step on the pencil reaches)
+_POLE = 1e-3
+#: how far a real root's polish may move it, in its bound (:func:`pencil_round_off`, measured 0.01 to
+#: 0.35 of the error): farther, Newton's steps found another root
+_REAL_REACH = 100.0
+
+
+def polished_ratio_round_off(values, which, bound) -> np.ndarray:
+    """How far round-off can move the whirl ratio of each polished root's shape (:func:`refined_pairs`):
+    as :func:`ratio_round_off`, with the root's own error, what the polish promises
+    (:data:`POLISH_LEVEL`, or the error ``bound`` it left where larger, relative), in place of the
+    solve's round-off, over the gap to the nearest other root of ``values`` or its conjugate (a
+    repeated root's partner excluded as there, :func:`._roots.whirl_round_off`). The polish solves the
+    pencil itself (its residual's stiffness term summed exactly), so the solve's round-off no longer
+    bounds its shape: a mount mode of rubber_mounts with a 1e-12 s branch, whirl ratio 2.2e-3 at 500
+    rpm, had the solve's 3.2e-2 and read 'none' by it; its polished ratio is a 50-digit solve's to
+    1e-13. The lowest modes' route, whose roots its Newton steps promise to the same level, takes
+    the same (:func:`.campbell._lowest_whirl_round_off`).
+
+    Parameters
+    ----------
+    values : ndarray, shape (m,), complex [1/s]
+        The roots of one speed, polished.
+    which : ndarray of bool, shape (m,)
+        The roots polished.
+    bound : ndarray, shape (m,)
+        Their error left, relative (:func:`refined_pairs`).
+
+    Returns
+    -------
+    ndarray, shape (which.sum(),)
+    """
+    lam = np.asarray(values)[which]
+    every = np.concatenate([values, np.conj(values)])
+    repeated = REPEATED_TOLERANCE * np.abs(values).max(initial=0.0)
+    level = np.maximum(np.asarray(bound)[which], POLISH_LEVEL) * np.abs(lam)
+    return _roots.whirl_round_off(lam, every, 0.0, repeated, level)
 
 
 def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3):

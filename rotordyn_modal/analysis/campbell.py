@@ -637,15 +637,15 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
         wanted = None
         if limit is not None:
             if stack.branch_times.shape[1]:
-                values, shapes, wanted, _ = _lowest_branches.roots_below(stack, speeds, limit, count)
+                values, shapes, wanted, whole = _lowest_branches.roots_below(stack, speeds, limit, count)
             else:
-                values, shapes, wanted, _ = _lowest.roots_below(stack, speeds, limit, count, progress)
+                values, shapes, wanted, whole = _lowest.roots_below(stack, speeds, limit, count, progress)
             if not values.shape[-1]:
                 return _no_modes(model, speeds, orders, stack.n_dof)
         elif stack.branch_times.shape[1]:          # Maxwell branches: the rational pencil (theory section 17)
-            values, shapes, _ = _lowest_branches.lowest_roots(stack, speeds, count)
+            values, shapes, whole = _lowest_branches.lowest_roots(stack, speeds, count)
         else:
-            values, shapes, _ = _lowest.lowest_roots(stack, speeds, count, progress)
+            values, shapes, whole = _lowest.lowest_roots(stack, speeds, count, progress)
         values, shapes = values[None], shapes[None]
         every = _variant_rows(1, len(speeds))
         # read by part where tracking and the critical speeds compare shapes: not a second copy of all
@@ -682,7 +682,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
         _warn_of_jumps(tables[0], sources[0], model)
     else:
         tables = [_critical_table([], [], [], [], [], [], [], [])]
-    noise = _lowest_whirl_round_off(stack, speeds, values[0])
+    noise = _lowest_whirl_round_off(stack, speeds, values[0], ~np.asarray(whole, dtype=bool))
     if wanted is not None:                     # the roots not asked for are no result
         values = np.where(wanted, values, complex(np.nan, np.nan))
         shapes[~wanted] = 0.0
@@ -707,7 +707,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
 _LOWEST_ROUND_OFF_BYTES = 2**21
 
 
-def _lowest_whirl_round_off(stack, speeds, values):
+def _lowest_whirl_round_off(stack, speeds, values, refined=None):
     """How far round-off can move the whirl ratio of each carried root ``values`` (S, k) of the
     lowest modes' route, as ``modes`` and the full Campbell diagram take it
     (:func:`._roots.whirl_round_off`): the round-off of each speed's state matrix over the gap to
@@ -717,7 +717,10 @@ def _lowest_whirl_round_off(stack, speeds, values):
     examples); speed-dependent coefficients balance each speed's matrix. The roots not carried
     are not known: a gap to one of them is not seen (the top carried root's may be smaller).
     None (no round-off: ``WHIRL_TOLERANCE`` alone) for a model whose state matrix exceeds
-    :data:`_LOWEST_ROUND_OFF_BYTES` or that the route keeps sparse.
+    :data:`_LOWEST_ROUND_OFF_BYTES` or that the route keeps sparse. ``refined`` (S,) bool, where
+    given: the speeds whose roots the route's Newton steps give to :data:`._eigensolve.POLISH_LEVEL`
+    (or warn of; not those solved whole), each root's round-off there at most that part of itself,
+    as the full solve's polished roots take it (:func:`._eigensolve.polished_ratio_round_off`).
 
     Returns
     -------
@@ -734,7 +737,11 @@ def _lowest_whirl_round_off(stack, speeds, values):
     every = np.concatenate([lam, lam.conj()], axis=-1)
     with np.errstate(invalid="ignore"):
         repeated = _eigensolve.REPEATED_TOLERANCE * np.abs(np.where(np.isfinite(values), values, 0)).max(axis=-1)
-        return _roots.whirl_round_off(lam, every, noise, repeated)
+        if refined is None or not np.any(refined):
+            return _roots.whirl_round_off(lam, every, noise, repeated)
+        level = np.broadcast_to(noise[:, None], lam.shape)
+        level = np.where(refined[:, None], np.minimum(level, _eigensolve.POLISH_LEVEL * np.abs(lam)), level)
+        return _roots.whirl_round_off(lam, every, noise, repeated, level)
 
 
 #: speeds at which a model with speed-dependent coefficients has its state matrix balanced for the
@@ -1481,7 +1488,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     values, shapes, weighted, noise = solve_sweeps(stack, speeds, progress, whirl_noise=True)
     count, n_speeds, m = values.shape
     with phase(progress, "round-off and whirl"):
-        _refine_inexact(stack, speeds, values, shapes)
+        _refine_inexact(stack, speeds, values, shapes, noise)
         every = _variant_rows(count, n_speeds)
         ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every,
                                     speeds if count == 1 else np.tile(speeds, count))
@@ -1509,12 +1516,14 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
 
 
 
-def _refine_inexact(stack, speeds, values, shapes):
+def _refine_inexact(stack, speeds, values, shapes, noise=None):
     """The roots ``values`` (V, N, m) with ``shapes`` (V, N, m, n) at ``speeds`` [rad/s] that
     double precision leaves further off than :data:`._eigensolve.POLISH_LEVEL`
     (:func:`._eigensolve.pencil_round_off`): pairs closer than that polished in place
     (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model (models with
-    Maxwell branches on their rational pencil). Returns whether any root needed the polish."""
+    Maxwell branches on their rational pencil). ``noise`` (V, N, m), where given, the whirl ratios'
+    round-off, the polished roots' made their own in place (:func:`._eigensolve.polished_ratio_round_off`).
+    Returns whether any root needed the polish."""
     needed = False
     for v, form in enumerate(stack.forms):
         branches = _eigensolve.branch_terms(form)
@@ -1530,12 +1539,13 @@ def _refine_inexact(stack, speeds, values, shapes):
             # every speed's estimate in one batched product; the polish only where a root needs it
             bound[part] = _eigensolve.pencil_round_off(values[v, part], shapes[v, part], form.matrices.M,
                                                        damping, stiffness, branches=branches)
-            inexact = (bound[part] > _eigensolve.POLISH_LEVEL) & (values[v, part].imag > 0)
-            needed |= bool(inexact.any())
+            inexact = (bound[part] > _eigensolve.POLISH_LEVEL) & (values[v, part] != 0)     # real roots too
+            needed |= bool((inexact & (values[v, part].imag > 0)).any())
             for j in np.flatnonzero(inexact.any(axis=-1)):
                 i = part.start + j
                 bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], form.matrices.M, damping[j],
-                                                     stiffness[j], bound[i], stack.whirl, v, branches=branches)
+                                                     stiffness[j], bound[i], stack.whirl, v, branches=branches,
+                                                     whirl=None if noise is None else noise[v, i])
         name = stack.models[v].name if len(stack.forms) > 1 else ""
         _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
     stack.inexact = needed              # the critical speeds are then refined on polished roots too

@@ -337,14 +337,16 @@ def _rotor_whirl_ratios(model, shapes, speed) -> np.ndarray:
     return out
 
 
-def _refine_inexact(form, speed, values, shapes, stacklevel=4) -> np.ndarray | None:
+def _refine_inexact(form, speed, values, shapes, stacklevel=4, whirl=None) -> np.ndarray | None:
     """The roots ``values`` (m,) with shapes (m, n) at ``speed`` [rad/s] whose double-precision
     round-off (:func:`._eigensolve.pencil_round_off`) exceeds :data:`._eigensolve.POLISH_LEVEL`:
     polished in place (:func:`._eigensolve.refined_pairs`), those left over
-    :data:`._eigensolve.INEXACT_LEVEL` warned of;
+    :data:`._eigensolve.INEXACT_LEVEL` warned of; ``whirl`` (m,), where given, the whirl ratios'
+    round-off, the polished roots' made their own in place;
     returns the error left (m,) (a model with Maxwell branches: on its rational pencil)."""
     bound, damping, stiffness, branches = _eigensolve.round_off_at(form, speed, values, shapes)
-    bound = _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound, branches=branches)
+    bound = _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound, branches=branches,
+                                        whirl=whirl)
     _eigensolve.warn_of_inexact_roots([speed], bound[None], stacklevel=stacklevel)
     return bound
 
@@ -379,10 +381,11 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     forms = _whirl.whirl_forms(model)
     shapes = vectors[:n, index].T
     # the whirl's round-off is the solve's, as the sweeps take it (_eigensolve.solve_batch): from
-    # the roots before the polish moves them off their own copies in ``refined``
+    # the roots before the polish moves them off their own copies in ``refined``; a polished
+    # root's is its own (_eigensolve.polished_ratio_round_off), as the sweeps' polish makes it
     ratio_noise = _roots.whirl_round_off(upper, refined, noise, _eigensolve.REPEATED_TOLERANCE * np.abs(upper).max(),
                                          np.broadcast_to(own, values.shape)[index])
-    _refine_inexact(form, speed, upper, shapes)
+    _refine_inexact(form, speed, upper, shapes, whirl=ratio_noise)
     shapes = _eigensolve.resolve_repeated(upper[None], shapes[None], forms)[0]
     shapes = _normalise(shapes, form.matrices.M)
     oscillatory = is_oscillating(upper)

@@ -316,11 +316,11 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
             return _stability_lowest(stack, speeds, modes, max_frequency)
     stack = Stack([model])                  # one linear form for the sweep, the polish and the thresholds
     form = stack.forms[0]
-    values, all_shapes, _, (noise,) = solve_sweeps(stack, speeds, progress, whirl_noise=True)
-    eigenvalues, shapes, noise = values[0], all_shapes[0], noise[0]
+    values, all_shapes, _, noise = solve_sweeps(stack, speeds, progress, whirl_noise=True)
+    eigenvalues, shapes = values[0], all_shapes[0]
     with phase(progress, "whirl and round-off"):
         # the roots double precision leaves inexact polished, as campbell's (docs/theory.md, "Close roots")
-        inexact = _refine_inexact(stack, speeds, values, all_shapes)
+        inexact = _refine_inexact(stack, speeds, values, all_shapes, noise)
         ratios = np.where(is_oscillating(eigenvalues),
                           _whirl.whirl_ratios(shapes, _whirl.whirl_forms(model), speeds), 0.0)
         freq, zeta, log_dec = modal_quantities(eigenvalues)
@@ -334,7 +334,7 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
         crossing = _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes)
     return StabilityResult(
         speeds=speeds, eigenvalues=eigenvalues, real_parts=eigenvalues.real, damping_ratios=zeta,
-        log_decrements=log_dec, frequencies_hz=freq, whirl=_whirl.whirl_labels(ratios, noise),
+        log_decrements=log_dec, frequencies_hz=freq, whirl=_whirl.whirl_labels(ratios, noise[0]),
         modes=np.arange(1, eigenvalues.shape[1] + 1), thresholds=thresholds,
         threshold_modes=threshold_modes, threshold_onsets=onsets, roundoff=roundoff, **crossing,
     )
@@ -413,6 +413,7 @@ class _LowestRoots:
 
     def __init__(self, stack, count, limit=None):
         self.stack, self.count, self.limit = stack, count, limit
+        self.refined = None
 
     def at(self, speed):
         """Roots (k,) complex [1/s], by frequency (nan where the model has fewer than ``count``), and
@@ -425,12 +426,14 @@ class _LowestRoots:
         with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
             if self.limit is not None:
                 below = _lowest_branches.roots_below if self.stack.branch_times.shape[1] else _lowest.roots_below
-                values, shapes, wanted, _ = below(self.stack, speeds, self.limit, self.count)
+                values, shapes, wanted, whole = below(self.stack, speeds, self.limit, self.count)
+                self.refined = ~np.asarray(whole, dtype=bool)
                 return values[0][wanted[0]], shapes[0][wanted[0]]
             if self.stack.branch_times.shape[1]:     # Maxwell branches: the rational pencil, as campbell does
-                values, shapes, _ = _lowest_branches.lowest_roots(self.stack, speeds, self.count)
+                values, shapes, whole = _lowest_branches.lowest_roots(self.stack, speeds, self.count)
             else:
-                values, shapes, _ = _lowest.lowest_roots(self.stack, speeds, self.count)
+                values, shapes, whole = _lowest.lowest_roots(self.stack, speeds, self.count)
+        self.refined = ~np.asarray(whole, dtype=bool)      # the last speed's (its whirl round-off, crossing)
         return values[0], shapes[0]
 
     def crossing(self, speed, guess):
@@ -442,7 +445,7 @@ class _LowestRoots:
         nearest = int(np.nanargmin(np.abs(values - guess)))
         ratio = self.stack.whirl_ratios(shapes[None, nearest:nearest + 1], np.zeros(1, int), np.array([speed]))
         ratio = np.where(is_oscillating(values[nearest]), ratio.reshape(1), 0.0)
-        noise = _lowest_whirl_round_off(self.stack, np.array([speed]), values[None])    # as the sweep's labels
+        noise = _lowest_whirl_round_off(self.stack, np.array([speed]), values[None], self.refined)    # as the sweep's labels
         noise = None if noise is None else noise[0, nearest:nearest + 1]
         # the lowest roots of a speed are its lowest modes: their order is modes' own numbering
         return (float(values[nearest].imag / (2 * np.pi)), str(_whirl.whirl_labels(ratio, noise)[0]),

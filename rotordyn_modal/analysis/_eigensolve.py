@@ -1127,11 +1127,15 @@ def polished_ratio_round_off(values, which, bound) -> np.ndarray:
     return _roots.whirl_round_off(lam, every, 0.0, repeated, level)
 
 
-def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3):
+def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3, oscillating=None, labels=None, values=None):
     """One :class:`~rotordyn_modal.errors.ModelWarning` naming the speeds [rad/s] (N,) and the
-    modes (1-based columns of ``bound`` (N, m), by frequency) whose estimated relative error
-    ``bound`` (:func:`pencil_round_off`) exceeds :data:`INEXACT_LEVEL`, and the largest bound;
-    nothing where none does. Returns whether it warned."""
+    modes whose estimated relative error ``bound`` (N, m) (:func:`pencil_round_off`) exceeds
+    :data:`INEXACT_LEVEL`, and the largest bound; nothing where none does. Returns whether it warned.
+
+    ``oscillating`` (N, m) bool, where given, tells the modes from the real roots (relaxations,
+    overdamped pairs: no mode of any table), which are counted apart with their values ``values``
+    (N, m) [1/s]; ``labels`` (N, m) or (m,) int are the modes' numbers as the caller's table prints
+    them (default: the 1-based columns, every root a mode)."""
     import warnings
 
     from ..errors import ModelWarning
@@ -1140,12 +1144,28 @@ def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3):
     over = bound > INEXACT_LEVEL
     if not over.any():
         return False
+    modes = over if oscillating is None else over & np.atleast_2d(oscillating)
+    labels = np.broadcast_to(np.arange(1, bound.shape[1] + 1) if labels is None else labels, bound.shape)
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
     rows = np.flatnonzero(over.any(axis=1))
-    modes = np.flatnonzero(over.any(axis=0)) + 1
     rpm = ", ".join(f"{speed * 30 / np.pi:,.6g}" for speed in speeds[rows[:5]]) + (", ..." if len(rows) > 5 else "")
-    numbers = ", ".join(str(k) for k in modes[:8]) + (", ..." if len(modes) > 8 else "")
-    warnings.warn(f"{name + ': ' if name else ''}mode(s) {numbers} at {rpm} rpm: frequencies exact only to about "
+    named = np.unique(labels[modes])
+    numbers = ", ".join(str(k) for k in named[:8]) + (", ..." if len(named) > 8 else "")
+    real = over & ~modes
+    real_text = _real_roots_text(np.atleast_2d(values)[real] if values is not None else None, real.any(axis=0).sum())
+    what = (f"mode(s) {numbers}" + (f" and {real_text}" if real.any() else "")) if modes.any() else real_text
+    quantity = "frequencies" if modes.any() else "values"
+    warnings.warn(f"{name + ': ' if name else ''}{what} at {rpm} rpm: {quantity} exact only to about "
                   f"{np.max(bound[over]):.1e} relative (double precision's round-off of a low mode beside stiff "
                   "elements; docs/theory.md, \"Close roots\")", ModelWarning, stacklevel=stacklevel)
     return True
+
+
+def _real_roots_text(values, count) -> str:
+    """'N real root(s) (-50 1/s, ...; not modes)': the non-oscillating roots a warning names, by
+    their values [1/s] where known (the distinct ones, 4 digits, at most 4)."""
+    if values is None or not len(values):
+        return f"{count} real root(s) (not modes)"
+    shown = list(dict.fromkeys(f"{v:.4g}" for v in np.sort(np.asarray(values).real)))
+    text = ", ".join(shown[:4]) + (", ..." if len(shown) > 4 else "")
+    return f"{count} real root(s) ({text} 1/s; not modes)"

@@ -1547,7 +1547,9 @@ def _refine_inexact(stack, speeds, values, shapes, noise=None):
                                                      stiffness[j], bound[i], stack.whirl, v, branches=branches,
                                                      whirl=None if noise is None else noise[v, i])
         name = stack.models[v].name if len(stack.forms) > 1 else ""
-        _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
+        # the columns are the table's mode labels; those not oscillating there are no mode of it
+        _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4, oscillating=is_oscillating(values[v]),
+                                          values=values[v])
     stack.inexact = needed              # the critical speeds are then refined on polished roots too
     return needed
 

@@ -347,7 +347,10 @@ def _refine_inexact(form, speed, values, shapes, stacklevel=4, whirl=None) -> np
     bound, damping, stiffness, branches = _eigensolve.round_off_at(form, speed, values, shapes)
     bound = _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound, branches=branches,
                                         whirl=whirl)
-    _eigensolve.warn_of_inexact_roots([speed], bound[None], stacklevel=stacklevel)
+    oscillating = is_oscillating(values)
+    # the numbers modes' table prints: the modes counted in order, the real roots apart
+    _eigensolve.warn_of_inexact_roots([speed], bound[None], stacklevel=stacklevel, oscillating=oscillating[None],
+                                      labels=np.cumsum(oscillating)[None], values=np.asarray(values)[None])
     return bound
 
 

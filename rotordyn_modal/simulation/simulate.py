@@ -688,10 +688,10 @@ def _explained(failure, model, system):
         return IntegrationFailed(f"{source}{failure}", failure.time, failure.stopped)
     reached = _eccentricities(model, system, films, failure.state)
     stopped = "" if failure.stopped is None else (
-        f"; where it stopped, t = {failure.time:.6g} s: {_eccentricities(model, system, films, failure.stopped)}")
+        f", and where it stopped (t = {failure.time:.6g} s): {_eccentricities(model, system, films, failure.stopped)}")
     return IntegrationFailed(
         f"{model.source}: {failure} with journal bearings (eccentricity at the last output time: "
-        f"{reached}{stopped}): a journal approached its bearing wall (eccentricity 1), where the oil "
+        f"{reached}){stopped}: a journal approached its bearing wall (eccentricity 1), where the oil "
         "film's force grows without limit (the equations stiffen beyond the integrator, and contact "
         "is not modelled): a speed too low to carry the load, or whirl grown to the clearance. Start "
         "from initial='equilibrium' at a running speed, or stay below the oil-whirl threshold "

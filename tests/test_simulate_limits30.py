@@ -51,10 +51,11 @@ def test_compressor_duration_beyond_float_resolution_is_refused_with_the_largest
     assert 10 * 2.3e-16 * 1e9 > 1e-4 * 2 * np.pi / sixth
 
 
-def test_rigid_duration_beyond_float_resolution_is_refused_before_compiling(capsys):
+def test_rigid_duration_beyond_float_resolution_is_refused_before_compiling(capsys, monkeypatch):
     """The nonlinear model: the same refusal, before any compilation or eigen-solution of its
     steps, naming the largest duration below the one asked; --allow-long does not lift it (no CPU
-    time makes the steps representable)."""
+    time makes the steps representable). The count limit of periods, which comes first, lifted."""
+    monkeypatch.setenv("ROTORDYN_MODAL_MAX_POINTS", "1e18")
     assert main(["simulate", "examples/spring_block_rotor.toml", "--speed", "50", "--speed-unit", "rad/s",
                  "--duration", "1e13", "--allow-long", "--quiet"]) == 2
     lines = _error_lines(capsys)

@@ -372,8 +372,8 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     system = reduced_system(model, speed, cutoff, () if kick is None else (kick,), unbalance_phases_deg)
     below = system.frequencies[:system.modes]
     rate = max(fastest, below[below < cutoff].max(initial=0.0) if np.isfinite(cutoff) else below.max(initial=0.0))
-    check_resolution(duration, max(rate, system.frequencies.max(initial=0.0)), samples)   # every basis motion
     check_duration(duration, rate)
+    check_resolution(duration, max(rate, system.frequencies.max(initial=0.0)), samples)   # every basis motion
     y0 = np.zeros(2 * system.size)
     if initial == "equilibrium" and system.films is not None:
         from .flexible_journal import equilibrium

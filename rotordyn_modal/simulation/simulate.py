@@ -147,8 +147,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     large = model.dofs.n >= _SMALL_DOF             # the eigen-solutions below cost minutes
     form = _form_once(model)                       # the checks below share one linear form
     rate = _fastest_spin(model, speed, final_speed) if large else _fastest_rate(model, speed, final_speed, form=form)
-    _check_resolution(duration, rate, samples)     # before any work on a run that could not end
     _check_duration(duration, rate)                # before any work on a run that would not end
+    _check_resolution(duration, rate, samples)     # nor on one that could not (the count limit lifted)
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
     span = [speed] if final_speed is None else [speed, final_speed]
@@ -161,8 +161,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         rate = _Bounded(lambda: _fastest_rate(model, speed, final_speed, announce=True, progress=progress,
                                                 form=form),
                         _most_rate(model, speed, final_speed, form) if samples else None)
-        _checked_with(lambda: _check_resolution(duration, rate.value), rate)
         _checked_with(lambda: _check_duration(duration, rate.value), rate)
+        _checked_with(lambda: _check_resolution(duration, rate.value), rate)
     else:
         exact_rate, timed = rate, None
         rate = _Bounded(lambda: exact_rate, None)

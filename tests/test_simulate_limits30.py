@@ -96,3 +96,26 @@ def test_journal_message_names_where_it_stopped():
     where = re.search(r"where it stopped \(t = ([0-9.e+-]+) s\): \[bearings.DE\] ([0-9.]+)", text)
     assert where, text
     assert float(where[1]) < 10 and float(where[2]) > 0.5, text
+
+
+def test_a_linear_model_that_blows_up_fails_in_one_line_naming_the_cause(monkeypatch):
+    """Where the state the integrator returns is no longer finite, the linear time model's failure
+    is one line (an InputError, the command line's exit 2) naming the time and the cause; on main a
+    RuntimeError 'integration failed at t = ... (DOP853 code 1)' that the command line printed as
+    'failed: RuntimeError'. The blow-up is forced on the pedestal-free compressor (numpy path)."""
+    from rotordyn_modal.simulation import _system
+
+    real = _system.integrate_to
+
+    def blown(solver, t, stiffness_test=False):
+        return real(solver, t, stiffness_test) * np.nan
+
+    monkeypatch.setattr(_system, "integrate_to", blown)
+    model = rdm.load_model("examples/compressor_rotor.toml")
+    try:
+        rdm.simulate(model, 0.01, 300.0, samples=3, backend="numpy")
+        raise AssertionError("a non-finite state went through")
+    except InputError as error:
+        text = str(error)
+    assert "\n" not in text and text.startswith("examples/compressor_rotor.toml: the integration stopped at t = ")
+    assert "infinite or NaN" in text, text

@@ -456,7 +456,7 @@ def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="a
                 states[i] = integrate_to(solver, times[i], stiffness_test=journals)   # as the rigid model's
             if not solver.successful() or not np.all(np.isfinite(states[i])):
                 stopped = np.array(solver.y, copy=True)
-                finite = bool(np.all(np.isfinite(stopped)))
+                finite = bool(np.all(np.isfinite(stopped)) and np.all(np.isfinite(states[i])))
                 failed = IntegrationFailed(integration_failure(solver.get_return_code(), solver.t, finite),
                                            solver.t, stopped if finite else None)
                 failed.last = states[i - 1]      # the state at the last output time

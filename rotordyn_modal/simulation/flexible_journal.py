@@ -188,9 +188,9 @@ def failure(model, system_films, state, message, stopped=None, time=None) -> Inp
         f", and where it stopped (t = {time:.6g} s): {_eccentricities(system_films, stopped)}")
     return IntegrationFailed(
         f"{model.source}: {message} with journal bearings (eccentricity at the last output time: "
-        f"{_eccentricities(system_films, state)}){where}: a journal approached its bearing wall (eccentricity 1), "
-        "where the oil film's force grows without limit (contact is not modelled): a speed too low to carry the load, or whirl "
-        "grown to the clearance. Start from initial='equilibrium' at a running speed, or stay below the "
+        f"{_eccentricities(system_films, state)}){where}: a journal approached its bearing wall (eccentricity "
+        "1), where the oil film's force grows without limit (contact is not modelled): a speed too low to "
+        "carry the load, or whirl grown to the clearance. Start from initial='equilibrium' at a running speed, or stay below the "
         "oil-whirl threshold (rotordyn-modal stability)", time, stopped)
 
 

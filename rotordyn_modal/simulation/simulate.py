@@ -781,8 +781,9 @@ def _output_times(solver, times, y0, bar, caught, stiffness_test=False):
             handler(signum, frame)
         if not solver.successful() or not np.all(np.isfinite(states[i])):
             stopped = np.array(solver.y, copy=True)
-            raise _Failed(integration_failure(solver.get_return_code(), solver.t, bool(np.all(np.isfinite(stopped)))),
-                          solver.t, last, stopped)
+            finite = bool(np.all(np.isfinite(stopped)) and np.all(np.isfinite(states[i])))
+            raise _Failed(integration_failure(solver.get_return_code(), solver.t, finite), solver.t, last,
+                          stopped if finite else None)
         if bar is not None:
             bar.update(times[i] - times[i - 1])
     return states

@@ -48,6 +48,9 @@ rpm). With numba the first run compiles the kernels (~20 s, said on stderr). A r
 nonlinear model estimated to take more than 30 minutes of CPU time (the integrator's steps follow
 the fastest motion: a stiff mode of a light part makes them many) is refused before it starts,
 with the estimate (--allow-long runs it anyway, ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit).
+A --duration whose end time's float resolution (duration x 2.2e-16) is not well below the fastest
+motion's period is refused before the work, naming the largest that passes (no CPU time lifts it:
+docs/simulate.md).
 
 A model with a flexible rotor ([[rotors.shaft]]), with bearing pedestals (pedestal_mass) or
 with gear mesh stiffness (mesh_stiffness, mesh_damping), which the nonlinear model cannot

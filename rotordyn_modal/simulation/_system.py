@@ -305,6 +305,35 @@ def integrate_to(solver, t, stiffness_test=False):
     return y
 
 
+#: DOP853's failure codes (Hairer's ``IDID``), in words
+_DOP853_CAUSES = {
+    -1: "its input was inconsistent",
+    -2: "it reached its limit of steps",
+    -3: "its step fell below the float resolution of t (10 x 2.3e-16 x t, 'step size too small'): "
+        "the motion grew faster than the integrator can follow (an unstable machine, a force without "
+        "bound, or too tight --rtol/--atol for this --duration)",
+    STIFF_STOP: "its stiffness test stopped it (the equations stiffened beyond an explicit integrator)",
+}
+
+
+class IntegrationFailed(InputError):
+    """DOP853 stopped short of the end: one line naming the time and the cause (the command line's
+    exit code 2; the remedy is another duration, tolerance or model). ``time`` [s], ``state`` the
+    state where it stopped."""
+
+    def __init__(self, message, time=None, state=None):
+        super().__init__(message)
+        self.time, self.state = time, state
+
+
+def integration_failure(code, time, finite=True) -> str:
+    """The line of a DOP853 run that stopped at ``time`` [s] with return ``code`` (``finite`` False:
+    the state it returned was not finite)."""
+    cause = ("the state became infinite or NaN (the motion grew without bound: an unstable machine or a force "
+             "without bound)") if not finite else _DOP853_CAUSES.get(code, f"it failed (code {code})")
+    return f"the integration stopped at t = {time:.6g} s (DOP853 code {code}): {cause}"
+
+
 def check_duration(duration, rate):
     """Refuse a duration of more periods of the fastest motion (``rate`` [rad/s]) than the count
     limit: the integrator's steps grow with them, so such a run would not end in any useful time."""
@@ -315,6 +344,45 @@ def check_duration(duration, rate):
     if problem:
         raise InputError(f"duration = {duration!r} s: expected {problem} "
                          f"(the fastest motion is {rate / (2 * np.pi):.4g} Hz)")
+
+
+#: the end time's float resolution (``duration`` times the machine epsilon, 2.2e-16) must stay below
+#: this share of the fastest motion's period: DOP853 stops (code -3, "step size too small") where its
+#: step falls below 10 x 2.3e-16 x t (Hairer's ``UROUND``), and started afresh at each output time it
+#: guesses a first step of about 0.01 / omega (compressor_rotor at rest, fastest motion 8,494 rad/s,
+#: stopped at t = 4.55e8 s, where the resolution was 1.4e-4 of the period): 1e-6 leaves a margin of 100
+RESOLUTION_SHARE = 1e-6
+
+
+def check_resolution(duration, rate, samples=None):
+    """Refuse, before any work, a ``duration`` [s] whose end time's float resolution
+    (``duration * eps``) is not well below (:data:`RESOLUTION_SHARE`) the period of the fastest
+    motion ``rate`` [rad/s] that the integrator's steps follow, or ``samples`` output times whose
+    step is not: DOP853 could not take its steps there (``--allow-long`` does not lift this).
+    The message names the largest duration (or count of output times) that passes."""
+    eps = np.finfo(float).eps
+    if samples is not None and samples - 1 > RESOLUTION_SHARE / eps:
+        raise InputError(f"samples = {samples!r}: expected at most {int(RESOLUTION_SHARE / eps) + 1:,}: the output "
+                         "step would not be well above the end time's float resolution (duration x 2.2e-16)")
+    if not rate > 0 or not np.isfinite(rate):
+        return
+    period = 2 * np.pi / rate
+    if duration * eps <= RESOLUTION_SHARE * period:
+        return
+    largest = _rounded_down(RESOLUTION_SHARE * period / eps)
+    raise InputError(f"duration = {duration!r} s: expected at most {largest:.3g} s: at t = {duration:.3g} s a float "
+                     f"resolves only {duration * eps:.2g} s (duration x 2.2e-16), not well below (at most "
+                     f"{RESOLUTION_SHARE:g} of) the period of the fastest motion ({rate / (2 * np.pi):.4g} Hz, "
+                     f"{period:.3g} s) that the integrator's steps follow: DOP853 stops where its step falls below "
+                     "10 x 2.3e-16 x t ('step size too small'); --allow-long does not lift this")
+
+
+def _rounded_down(value):
+    """``value`` > 0 rounded down to 3 significant digits (so that it passes the check it states)."""
+    shown = float(f"{value:.3g}")
+    if shown > value:
+        shown -= 10.0 ** (np.floor(np.log10(shown)) - 2)
+    return float(f"{shown:.3g}")
 
 
 def default_samples(rate, duration):

@@ -34,7 +34,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._jit import compile_together, numba_or_none
-from ._system import announce_compilation
+from ._system import IntegrationFailed, announce_compilation
 from .flexible_journal import film_load
 
 __all__ = ["simulate_linear", "reduced_system", "ReducedSystem", "NOTICE", "LINEAR_ONLY_NOTICE", "linear_only", "LOWEST",
@@ -360,7 +360,7 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
         the speed) and gravity ``-f_g^T q``; ``drive_torque`` is what spins the rotors' polar
         inertias up the ramp, ``accel sum_j r_j^2 J_p,j``.
     """
-    from ._system import check_duration, default_samples
+    from ._system import check_duration, check_resolution, default_samples
 
     refuse(model, drive)
     accel = 0.0 if drive == "constant" else (final_speed - speed) / duration
@@ -373,6 +373,7 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     below = system.frequencies[:system.modes]
     rate = max(fastest, below[below < cutoff].max(initial=0.0) if np.isfinite(cutoff) else below.max(initial=0.0))
     check_duration(duration, rate)
+    check_resolution(duration, max(rate, system.frequencies.max(initial=0.0)), samples)   # every basis motion
     y0 = np.zeros(2 * system.size)
     if initial == "equilibrium" and system.films is not None:
         from .flexible_journal import equilibrium
@@ -394,12 +395,12 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     notice_once(linear_only(model) or "a flexible rotor")    # after every refusal: a refusal is one line
     try:
         states = _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend)
-    except RuntimeError as error:
+    except IntegrationFailed as error:
         if system.films is None:
-            raise
+            raise IntegrationFailed(f"{model.source}: {error}", error.time, error.state) from None
         from .flexible_journal import failure
 
-        raise failure(model, system.films, error.state, str(error)) from None
+        raise failure(model, system.films, error.last, str(error), error.state, error.time) from None
     return _result(model, system, times, states, speed, accel, drive)
 
 
@@ -424,12 +425,13 @@ def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="a
     """States ``[eta, eta']`` at ``times``: scipy's Fortran DOP853 on the reduced equations
     (:func:`linear_rhs`, or :func:`journal_rhs` with journal bearings, compiled by numba when it
     is installed and no bearing depends on speed, else :func:`_right_hand_side` in numpy: the
-    same equations). A failure raises RuntimeError with the last state reached as ``.state``."""
+    same equations). A failure raises :class:`._system.IntegrationFailed` (one line naming the
+    cause) with the state where it stopped as ``.state``."""
     import warnings
 
     from scipy.integrate import ode
 
-    from ._system import integrate_to, progress_bar
+    from ._system import integration_failure, integrate_to, progress_bar
 
     journals = system.films is not None
     compiled = None if system.dependent or backend == "numpy" else _compiled(backend, journals)
@@ -453,9 +455,11 @@ def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="a
                 warnings.simplefilter("ignore", UserWarning)
                 states[i] = integrate_to(solver, times[i], stiffness_test=journals)   # as the rigid model's
             if not solver.successful() or not np.all(np.isfinite(states[i])):
-                failed = RuntimeError(f"integration failed at t = {solver.t:.6g} s (DOP853 code "
-                                      f"{solver.get_return_code()})")
-                failed.state = states[i - 1]
+                stopped = np.array(solver.y, copy=True)
+                finite = bool(np.all(np.isfinite(stopped)) and np.all(np.isfinite(states[i])))
+                failed = IntegrationFailed(integration_failure(solver.get_return_code(), solver.t, finite),
+                                           solver.t, stopped if finite else None)
+                failed.last = states[i - 1]      # the state at the last output time
                 raise failed
             if bar is not None:
                 bar.update(times[i] - times[i - 1])

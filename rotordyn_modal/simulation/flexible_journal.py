@@ -177,21 +177,32 @@ def wrenches(model, V, system_films, eta, deta, spin) -> np.ndarray:
     return out
 
 
-def failure(model, system_films, state, message) -> InputError:
+def failure(model, system_films, state, message, stopped=None, time=None) -> InputError:
     """The message of an integration that stopped with journal bearings: a journal at its wall is
-    the model's limit (the film force grows without bound), with each journal's eccentricity."""
+    the model's limit (the film force grows without bound), with each journal's eccentricity at
+    the last output time (``state``) and, where known, where the integrator stopped (``stopped`` at
+    ``time`` [s]): the last output time may be long before (t = 0 for a run of a single step)."""
+    from ._system import IntegrationFailed
+
+    where = "" if stopped is None else (
+        f", and where it stopped (t = {time:.6g} s): {_eccentricities(system_films, stopped)}")
+    return IntegrationFailed(
+        f"{model.source}: {message} with journal bearings (eccentricity at the last output time: "
+        f"{_eccentricities(system_films, state)}){where}: a journal approached its bearing wall (eccentricity "
+        "1), where the oil film's force grows without limit (contact is not modelled): a speed too low to "
+        "carry the load, or whirl grown to the clearance. Start from initial='equilibrium' at a running speed, or stay below the "
+        "oil-whirl threshold (rotordyn-modal stability)", time, stopped)
+
+
+def _eccentricities(system_films, state) -> str:
+    """``'[bearings.NAME] e, ...'``: each journal's eccentricity in the reduced state ``state``."""
     r = system_films.moves.shape[2]
     reached = []
     for j, name in enumerate(system_films.names):
         z = system_films.moves[j] @ state[:r]
         eccentricity = np.linalg.norm(system_films.axes[j] @ z) / system_films.film[j, 2]
         reached.append(f"[bearings.{name}] {eccentricity:.4f}")
-    return InputError(
-        f"{model.source}: {message} with journal bearings (eccentricity at the last output time: "
-        f"{', '.join(reached)}): a journal ran into its bearing wall (eccentricity 1), where the oil film's "
-        "force grows without limit (contact is not modelled): a speed too low to carry the load, or whirl "
-        "grown to the clearance. Start from initial='equilibrium' at a running speed, or stay below the "
-        "oil-whirl threshold (rotordyn-modal stability)")
+    return ", ".join(reached)
 
 
 _COMPILED: dict = {}

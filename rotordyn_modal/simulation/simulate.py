@@ -11,7 +11,9 @@ from ..errors import InputError, ModelError
 from ..linear_system import checked_mass_inverse
 from . import _kernels
 from ._system import check_table_speeds, system_arrays
-from ._system import check_duration as _check_duration, default_samples as _default_samples
+from ._system import check_duration as _check_duration, check_resolution as _check_resolution
+from ._system import default_samples as _default_samples
+from ._system import IntegrationFailed, integration_failure
 from ._system import progress_bar as _progress_bar
 from ._system import COMPILE_NOTICE, announce_compilation  # noqa: F401  (their old home)
 from .flexible import linear_only
@@ -146,6 +148,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     form = _form_once(model)                       # the checks below share one linear form
     rate = _fastest_spin(model, speed, final_speed) if large else _fastest_rate(model, speed, final_speed, form=form)
     _check_duration(duration, rate)                # before any work on a run that would not end
+    _check_resolution(duration, rate, samples)     # nor on one that could not (the count limit lifted)
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
     span = [speed] if final_speed is None else [speed, final_speed]
@@ -159,6 +162,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
                                                 form=form),
                         _most_rate(model, speed, final_speed, form) if samples else None)
         _checked_with(lambda: _check_duration(duration, rate.value), rate)
+        _checked_with(lambda: _check_resolution(duration, rate.value), rate)
     else:
         exact_rate, timed = rate, None
         rate = _Bounded(lambda: exact_rate, None)
@@ -666,35 +670,48 @@ def _integrate(kn, system, extra, y0, times, rtol, atol, progress, model=None):
 
 
 class _Failed(RuntimeError):
-    """The integration stopped; ``time`` [s] and the last ``state`` reached."""
+    """The integration stopped; ``time`` [s] where it stopped, the ``state`` of the last output
+    time and the state ``stopped`` where it stopped (None: not known)."""
 
-    def __init__(self, message, time, state):
+    def __init__(self, message, time, state, stopped=None):
         super().__init__(message)
-        self.time, self.state = time, state
+        self.time, self.state, self.stopped = time, state, stopped
 
 
 def _explained(failure, model, system):
-    """An oil film that lost its journal (eccentricity 1) is the model's limit, not a bug."""
+    """One line naming the failure's cause (:class:`._system.IntegrationFailed`): an oil film that
+    lost its journal (eccentricity 1) is the model's limit, not a bug; it names each journal's
+    eccentricity at the last output time and where the integrator stopped."""
+    films = [i for i in range(len(system.bbody)) if system.bfilm[i, 2] > 0.0]
+    source = f"{model.source}: " if model is not None else ""
+    if model is None or not films:
+        return IntegrationFailed(f"{source}{failure}", failure.time, failure.stopped)
+    reached = _eccentricities(model, system, films, failure.state)
+    stopped = "" if failure.stopped is None else (
+        f", and where it stopped (t = {failure.time:.6g} s): {_eccentricities(model, system, films, failure.stopped)}")
+    return IntegrationFailed(
+        f"{model.source}: {failure} with journal bearings (eccentricity at the last output time: "
+        f"{reached}){stopped}: a journal approached its bearing wall (eccentricity 1), where the oil "
+        "film's force grows without limit (the equations stiffen beyond the integrator, and contact "
+        "is not modelled): a speed too low to carry the load, or whirl grown to the clearance. Start "
+        "from initial='equilibrium' at a running speed, or stay below the oil-whirl threshold "
+        "(rotordyn-modal stability)", failure.time, failure.stopped)
+
+
+def _eccentricities(model, system, films, state) -> str:
+    """``'[bearings.NAME] e, ...'``: the eccentricity of each journal bearing ``films`` (indices)
+    in the state ``state`` (2 n,) of the rigid model."""
     from ._kernels import bearing_stretch
 
-    films = [i for i in range(len(system.bbody)) if system.bfilm[i, 2] > 0.0]
-    if model is None or not films:
-        return RuntimeError(str(failure))
     n = system.n_dof
-    q, dq = failure.state[:n], failure.state[n:]
+    q, dq = state[:n], state[n:]
     reached = []
     for i in films:
         b = system.bbody[i]
         z, _ = bearing_stretch(q, dq, system.slot[b], system.ntrans[b], system.A3, system.bpos[i])
         eccentricity = np.linalg.norm(system.baxes[i] @ z[:3]) / system.bfilm[i, 2]
         reached.append(f"[bearings.{model.bearings[i].name}] {eccentricity:.4f}")
-    return InputError(
-        f"{model.source}: {failure} with journal bearings (eccentricity at the last output time: "
-        f"{', '.join(reached)}): a journal ran into its bearing wall (eccentricity 1), where the oil "
-        "film's force grows without limit (the equations stiffen beyond the integrator, and contact "
-        "is not modelled): a speed too low to carry the load, or whirl grown to the clearance. Start "
-        "from initial='equilibrium' at a running speed, or stay below the oil-whirl threshold "
-        "(rotordyn-modal stability)")
+    return ", ".join(reached)
 
 
 def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
@@ -763,9 +780,10 @@ def _output_times(solver, times, y0, bar, caught, stiffness_test=False):
             caught.clear()
             handler(signum, frame)
         if not solver.successful() or not np.all(np.isfinite(states[i])):
-            code = solver.get_return_code()
-            reason = {-3: ", step size too small", -4: ", the problem became stiff"}.get(code, "")
-            raise _Failed(f"integration failed at t = {solver.t:.6g} s (DOP853 code {code}{reason})", solver.t, last)
+            stopped = np.array(solver.y, copy=True)
+            finite = bool(np.all(np.isfinite(stopped)) and np.all(np.isfinite(states[i])))
+            raise _Failed(integration_failure(solver.get_return_code(), solver.t, finite), solver.t, last,
+                          stopped if finite else None)
         if bar is not None:
             bar.update(times[i] - times[i - 1])
     return states

@@ -63,3 +63,24 @@ def test_no_unbalance_peak_leader_crosses_a_curve_below_its_peak():
     written = [t.get_text() for ax in fig.axes for t in ax.texts]
     assert any("AF 3.7 at 631 rpm" in t for t in written), written
     plt.close(fig)
+
+
+def test_no_unbalance_peak_leader_crosses_a_curve_beside_its_peak():
+    """motor_pump_on_mounts over 100-3600 rpm (176 speeds), peaks with their separation margins
+    at 3000 rpm: in the probe panel the leaders of 'AF 7.6 at 649 rpm' and 'AF 5.3 at 960 rpm'
+    (1X motor, probe-pump-x) left their peaks across the probe-pump-y curve a few points beside
+    them. On the drawn figure (150 dpi) no peak label's leader crosses a curve beyond its
+    marker, and both peaks are still named (a label, or a number with a key line)."""
+    import matplotlib.pyplot as plt
+
+    import rotordyn_modal as rdm
+
+    model = rdm.load_model(Path(__file__).resolve().parent.parent / "examples" / "motor_pump_on_mounts.toml")
+    result = rdm.unbalance_response(model, rdm.rpm(np.linspace(100, 3600, 176)))
+    fig = result.plot(peaks=result.peaks(rdm.rpm(3000)))
+    fig.set_dpi(150)
+    assert _leader_crossings(fig) == []
+    written = [t.get_text() for ax in fig.axes for t in ax.texts]
+    for peak in ("AF 7.6 at 649 rpm", "AF 5.3 at 960 rpm"):
+        assert any(peak in t for t in written), (peak, written)
+    plt.close(fig)

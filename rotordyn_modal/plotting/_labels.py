@@ -1333,6 +1333,7 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
             and not crosses_any(leaders, [box]) \
             and not (apart and crosses_segments(nearest_in(box, point), point, leaders)) \
             and (crossing or (not curves.crossings(nearest_in(box, point), point, square)
+                              and not curves.cut(nearest_in(box, point), point, circle)
                               and np.hypot(*np.subtract(nearest_in(box, point), point)) <= _LONGEST_LEADER * h))
 
     def crossing_cost(box):

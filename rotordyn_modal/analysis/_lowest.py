@@ -333,8 +333,9 @@ def _swept(pencils, basis, want, count):
 #: one process, median of 8-10 pairs: 401 speeds 7-9 % less, no middle anchor solved; 201 speeds
 #: 3 % less, 2 of 12 solved; 101 speeds the same (0.99), every middle anchor solved)
 _SPARSE_SOLVED = 4
-#: the pilot's decompositions are kept for the sweep up to this much memory [bytes]; beyond, every
-#: ``_SOLVED``-th anchor is solved
+#: the pilot's decompositions are kept for the main pass up to this much memory [bytes] (the main
+#: pass takes them out as it uses them and keeps none of its own); beyond, every ``_SOLVED``-th
+#: anchor is solved
 _PILOT_BYTES = 64 * 2**20
 
 

@@ -312,9 +312,11 @@ class _Expansions:
         nodes are taken from (ascending).
     eigen : dict, optional
         The anchors' ``eig`` (roots (2m,), eigenvectors (2m, 2m)) by speed: those found there are
-        taken, not solved again, and those solved here are added (the state matrices are the same
-        bits where ``solved[0]`` is: :func:`_state_matrices` is relative to it), with their products
-        (:func:`_decomposition`).
+        taken, not solved again (the state matrices are the same bits where ``solved[0]`` is:
+        :func:`_state_matrices` is relative to it), with their products (:func:`_decomposition`).
+        Without ``nodes`` (the pilot) those solved here are added; with (the main pass) those
+        taken are removed as they are used, so the dict holds no more than the pilot's anchors, and
+        none once the main pass is made (``_lowest._PILOT_BYTES`` bounds them).
     nodes : bool
         Make the roots' changes at the nodes (``node_changes``); without, only the discs and the
         changes at the speeds (:func:`._lowest._solved_levels`' pilot).
@@ -409,7 +411,7 @@ class _Expansions:
                 lam[place], V[place] = self.eigen[int(at[place])][:2]
             if not known.all():
                 lam[~known], V[~known] = _batches._threaded(np.linalg.eig, A[~known], item_bytes=48 * A.shape[-1] ** 2)
-        if self.eigen is not None:
+        if self.eigen is not None and not self.at_nodes:        # the pilot's, for the main pass
             for place, a in enumerate(at):
                 self.eigen.setdefault(int(a), (lam[place], V[place]))
         return lam, V
@@ -421,14 +423,16 @@ class _Expansions:
         their own roots). Each anchor's numbers are its own, whichever anchors share the call; an
         anchor's products (:func:`_decomposition`) are taken from ``eigen`` where they are there."""
         at = self.solved[places]
-        parts = [self.eigen[int(a)][2] if self.eigen is not None and len(self.eigen.get(int(a), ())) > 2 else None
-                 for a in at]
+        kept = {} if self.eigen is None else self.eigen
+        # the main pass takes the pilot's anchors out of ``eigen`` as it uses them: the pilot's are held no longer
+        held = [kept.get(int(a), ()) if not self.at_nodes else kept.pop(int(a), ()) for a in at]
+        parts = [entry[2] if len(entry) > 2 else None for entry in held]
         new = np.array([part is None for part in parts], bool)
         if new.any():
             made = iter(_decomposition(basis, Gr, entries, A[new], lam[new], V[new]))
             parts = [next(made) if part is None else part for part in parts]
-            if self.eigen is not None:
-                for a, part in zip(at[new], np.array(parts, object)[new]):
+            if self.eigen is not None and not self.at_nodes:
+                for a, part in zip(at[new], [part for part, made_here in zip(parts, new) if made_here]):
                     self.eigen[int(a)] = self.eigen[int(a)][:2] + (part,)
         for j, place in enumerate(places):
             if parts[j] is not False:

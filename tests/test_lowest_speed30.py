@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _lowest
+from rotordyn_modal.analysis import _lowest, _lowest_starts
 from rotordyn_modal.analysis._lowest_bound import _gershgorin_count
 from rotordyn_modal.io.ross_file import read_ross_rotor
 
@@ -178,3 +178,76 @@ def test_the_count_needs_memory_of_the_discs_not_their_square():
         tracemalloc.stop()
     assert count == p               # each disc is a part of its own below the limit (the first's center on the axis)
     assert peak < 16 * 2**20, peak
+
+
+@pytest.fixture(scope="module")
+def carried():
+    """compressor_example at 201 speeds (its bearing tables bend every 1,000 rpm: at speeds 50, 100
+    and 150): the model, the main pass's expansions and basis, and the speeds at which ``F`` was made
+    whole (``_lowest_starts._changed`` without ``order``)."""
+    path = DATA / "compressor_example.toml"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = rdm.Model.from_dict(read_ross_rotor(path), source=path)
+    seen = {"whole": 0}
+    original, changed = _lowest._Expansions, _lowest_starts._changed
+
+    class Kept(original):
+        def __init__(self, pencils, basis, solved, want, levels, eigen=None, nodes=True):
+            super().__init__(pencils, basis, solved, want, levels, eigen, nodes)
+            if nodes:
+                seen["expansions"], seen["basis"] = self, basis
+
+    def counted(pencils, at, anchor, factors, order=None):
+        if order is None:
+            seen["whole"] += len(at)
+        return changed(pencils, at, anchor, factors, order)
+
+    _lowest._Expansions, _lowest_starts._changed = Kept, counted
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            rdm.campbell(model, np.linspace(LOW, HIGH, 201), critical=False, modes=12)
+    finally:
+        _lowest._Expansions, _lowest_starts._changed = original, changed
+    return model, seen
+
+
+def _projected_state(model, basis, speed):
+    """``[[0, I], [-W^T K W, -W^T (C + Omega G) W]]`` from the model's own matrices (``W^T M W = I``)."""
+    M, C, G, K = model.matrices(speed)
+    m = basis.shape[1]
+    return np.block([[np.zeros((m, m)), np.eye(m)], [-basis.T @ K @ basis, -basis.T @ (C + speed * G) @ basis]])
+
+
+def test_the_discs_hold_the_exact_discs_across_the_tables_knots(carried):
+    """At every carried speed, each Gershgorin disc of ``V^-1 A_j V`` (``V``: numpy's eigenvectors
+    of the nearer anchor's projected state matrix ``A_a``, both built here from
+    ``model.matrices``) lies inside one of the sweep's discs (to 1e-9 of the largest root), and
+    the centers agree to that: the discs made from one matrix per piece of the bearing tables
+    are the exact ones, on both sides of a knot."""
+    model, seen = carried
+    ex, basis = seen["expansions"], seen["basis"]
+    speeds = ex.speeds
+    rows = [row for row, speed in enumerate(ex.between) if speed % 50 in (47, 48, 49, 0, 1, 2, 3) or speed % 37 == 0]
+    assert len(rows) > 20
+    for row in rows:
+        anchor = ex.solved[ex.near[row]]
+        lam, V = np.linalg.eig(_projected_state(model, basis, speeds[anchor]))
+        F = np.linalg.solve(V, _projected_state(model, basis, speeds[ex.between[row]]) @ V) - np.diag(lam)
+        centers = lam + np.diag(F)
+        radii = np.abs(F).sum(axis=1) - np.abs(np.diag(F))
+        tolerance = 1e-9 * np.max(np.abs(lam))
+        nearest = np.argmin(np.abs(centers[:, None] - ex.centers[row][None, :]), axis=1)
+        assert np.all(np.abs(centers - ex.centers[row][nearest]) <= tolerance), row
+        assert np.all(radii <= ex.radii[row][nearest] + tolerance), row
+
+
+def test_the_whole_change_is_made_only_across_a_knot(carried):
+    """``F`` is made whole only at the speeds whose table piece does not hold their anchor: at
+    201 speeds, some of those within 8 speeds of a knot on the other side of their anchor (at most
+    24 for the three knots), not the 185 carried speeds (every one before)."""
+    _, seen = carried
+    ex = seen["expansions"]
+    assert len(ex.between) == 185
+    assert 0 < seen["whole"] <= 24

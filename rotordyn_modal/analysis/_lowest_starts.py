@@ -345,7 +345,7 @@ class _Expansions:
             t = np.where(span != 0, (speeds[self.between] - speeds[solved[left]]) / span, 0.5)
         self.near = np.where(t < 0.5, left, right)
         q = min([_MOST_NODES] + [len(grid) for _, grid in levels])
-        pieces = _affine_pieces(speeds, np.hstack([pencils.kb, pencils.cb]))
+        self.pieces = pieces = _affine_pieces(speeds, np.hstack([pencils.kb, pencils.cb]))
         self.nodes = np.concatenate([_around(grid, part, q, pieces) for part, grid in levels]).reshape(
             len(self.between), q)
         at = speeds[self.nodes]                                                      # (J, q)
@@ -442,24 +442,84 @@ class _Expansions:
 
     def _near(self, pencils, place, lam, order, error, factors):
         """The discs and the roots' changes at the speeds nearer the anchor ``place`` and at their
-        nodes, from that anchor's decomposition (``error`` (2m,): its rows' error)."""
+        nodes, from that anchor's decomposition (``error`` (2m,): its rows' error). Where the
+        bearings' entries are affine in the speed from the anchor to a speed (:meth:`_affine`),
+        ``F`` there is the step times one matrix per piece: the discs and changes are that matrix's
+        scaled (its products made once, not at every speed)."""
         rows = np.nonzero(self.near == place)[0]
         if not len(rows):
             return
         anchor = self.solved[place]
-        F = _changed(pencils, self.between[rows], anchor, factors)                  # (R, 2m, 2m)
-        diagonal = np.einsum("xii->xi", F)
-        self.centers[rows] = lam + diagonal
-        self.radii[rows] = np.abs(F).sum(axis=2) - np.abs(diagonal) + error
         gaps = lam[order][:, None] - lam[None, :]                                   # (want, 2m)
         gaps[np.arange(len(order)), order] = np.inf
-        self.changes[rows] = _second_order(F[:, order, :], np.swapaxes(F[:, :, order], 1, 2), order, gaps)
+        nodes = np.unique(self.nodes[rows]) if self.at_nodes else np.zeros(0, int)
+        at = np.concatenate([self.between[rows], nodes])
+        unit, which, slack = self._affine(pencils, anchor, at, factors)
+        step = pencils.speeds[at] - pencils.speeds[anchor]
+        # the unit matrices' discs and second-order terms: a change is ``t F_kk + t^2 sum F_kl F_lk / gap``
+        diagonal = np.einsum("gii->gi", unit)
+        off = np.abs(unit).sum(axis=2) - np.abs(diagonal)
+        along, across = unit[:, order, :], np.swapaxes(unit[:, :, order], 1, 2)
+        own = np.take_along_axis(along, order[None, :, None], axis=2)[..., 0]
+        square = np.sum(along * across / gaps, axis=2)                                 # (G, want)
+        affine, count = which >= 0, len(rows)
+        change = np.empty((len(at), len(order)), complex)
+        t, g = step[affine], which[affine]
+        change[affine] = t[:, None] * own[g] + (t ** 2)[:, None] * square[g]
+        here = affine[:count]
+        t, g = step[:count][here], which[:count][here]
+        self.centers[rows[here]] = lam + t[:, None] * diagonal[g]
+        self.radii[rows[here]] = np.abs(t)[:, None] * off[g] + error + slack[:count][here]
+        direct = rows[~here]
+        if len(direct):
+            F = _changed(pencils, self.between[direct], anchor, factors)            # (R, 2m, 2m)
+            diagonal = np.einsum("xii->xi", F)
+            self.centers[direct] = lam + diagonal
+            self.radii[direct] = np.abs(F).sum(axis=2) - np.abs(diagonal) + error
+            change[np.nonzero(~here)[0]] = _second_order(F[:, order, :], np.swapaxes(F[:, :, order], 1, 2),
+                                                          order, gaps)
+        self.changes[rows] = change[:count]
         if not self.at_nodes:
             return
-        nodes = np.unique(self.nodes[rows])
-        along, across = _changed(pencils, nodes, anchor, factors, order)           # F's rows and columns of the roots
-        change = _second_order(along, across, order, gaps)
-        self.node_changes[rows] = change[np.searchsorted(nodes, self.nodes[rows])]
+        others = np.nonzero(~affine[count:])[0]
+        if len(others):
+            along, across = _changed(pencils, nodes[others], anchor, factors, order)   # F's rows and columns of the roots
+            change[count + others] = _second_order(along, across, order, gaps)
+        self.node_changes[rows] = change[count:][np.searchsorted(nodes, self.nodes[rows])]
+
+    def _affine(self, pencils, anchor, at, factors):
+        """Where ``F`` (:func:`_changed`) at the speeds ``at`` (X,) is the step from the anchor times
+        one matrix: the speed's piece (``pieces``, :func:`_affine_pieces`) holds the anchor, so the
+        bearings' entries change by the step times the piece's slope (the line through its ends).
+        Returns that matrix of each piece (G, 2m, 2m) (``F`` per unit of speed), each speed's piece
+        (X,) (-1 where the piece does not hold the anchor: ``F`` made there) and a bound (X, 2m) on
+        each row's ``sum_l |F_il - t F'_il|``, the entries' departures from the line (a table's
+        round-off; :func:`_affine_pieces` takes entries within ``_AFFINE`` as affine), added to the
+        radii: a disc then holds the exact ``F``'s."""
+        gyroscopic, lower, stiff, damp, entries = factors
+        speeds = pencils.speeds
+        first, last = self.pieces[at, 0], self.pieces[at, 1]
+        inside = (first <= anchor) & (anchor <= last) & (speeds[last] > speeds[first])
+        which = np.full(len(at), -1)
+        keys, place, ends = np.unique(first[inside], return_index=True, return_inverse=True)[:3] \
+            if inside.any() else (np.zeros(0, int), np.zeros(0, int), np.zeros(0, int))
+        which[inside] = ends
+        ends = last[inside][place]                                             # each piece's last speed
+        span = (speeds[ends] - speeds[keys])[:, None]
+        slope_k = (pencils.kb[ends] - pencils.kb[keys]) / span                 # (G, e)
+        slope_c = (pencils.cb[ends] - pencils.cb[keys]) / span
+        unit = _changed_by(np.ones(len(keys)), slope_k, slope_c, factors)
+        slack = np.zeros((len(at), lower.shape[0]))
+        if len(pencils.rows) and inside.any():
+            step = (speeds[at[inside]] - speeds[anchor])[:, None]
+            off_k = np.abs(pencils.kb[at[inside]] - pencils.kb[anchor] - step * slope_k[which[inside]])
+            off_c = np.abs(pencils.cb[at[inside]] - pencils.cb[anchor] - step * slope_c[which[inside]])
+            # sum_l |dK_e V_top + dC_e V_bottom| of each entry's row of the factors, by the entries' rows
+            size_k = np.abs(stiff).sum(axis=1)[entries.column]                   # (r, q)
+            size_c = np.abs(damp).sum(axis=1)[entries.column]
+            terms = np.where(entries.used, off_k[:, entries.entry] * size_k + off_c[:, entries.entry] * size_c, 0.0)
+            slack[inside] = terms.sum(axis=2) @ np.abs(lower).T                  # (X', 2m)
+        return unit, which, slack
 
 
 def _decomposition(basis, Gr, entries, A, lam, V):
@@ -604,22 +664,29 @@ def _changed(pencils, at, anchor, factors, order=None):
     rows (2m, r), ``W`` at their distinct columns times ``V_top`` and ``V_bottom`` (c, 2m) each, and
     their :class:`_BearingEntries`). (X, 2m, 2m); with ``order`` (k,) its rows and columns
     (transposed) at those roots only, (X, k, 2m) each."""
+    return _changed_by(pencils.speeds[at] - pencils.speeds[anchor], pencils.kb[at] - pencils.kb[anchor],
+                       pencils.cb[at] - pencils.cb[anchor], factors, order)
+
+
+def _changed_by(step, dk, dc, factors, order=None):
+    """:func:`_changed` of the changes ``step`` (X,) [rad/s] of the speed and ``dk``, ``dc`` (X, e) of
+    the bearings' entries (``pencils.kb``, ``pencils.cb``)."""
     gyroscopic, lower, stiff, damp, entries = factors
-    step = (pencils.speeds[at] - pencils.speeds[anchor])[:, None, None]
-    if len(pencils.rows):
+    step = np.asarray(step)[:, None, None]
+    if dk.shape[1]:
         # dK_b V_top + dC_b V_bottom on the bearings' distinct rows, (X, r, 2m): each row's entries in turn
-        dk = np.where(entries.used, pencils.kb[at][:, entries.entry] - pencils.kb[anchor][entries.entry], 0.0)
-        dc = np.where(entries.used, pencils.cb[at][:, entries.entry] - pencils.cb[anchor][entries.entry], 0.0)
+        dk = np.where(entries.used, dk[:, entries.entry], 0.0)
+        dc = np.where(entries.used, dc[:, entries.entry], 0.0)
         rows = dk[:, :, 0, None] * stiff[entries.column[:, 0]] + dc[:, :, 0, None] * damp[entries.column[:, 0]]
         for j in range(1, entries.entry.shape[1]):
             rows += dk[:, :, j, None] * stiff[entries.column[:, j]] + dc[:, :, j, None] * damp[entries.column[:, j]]
     if order is None:
         F = -step * gyroscopic
-        if len(pencils.rows):
+        if dk.shape[1]:
             F -= lower @ rows
         return F
     along, across = -step * gyroscopic[order], -step * gyroscopic[:, order].T
-    if len(pencils.rows):
+    if dk.shape[1]:
         along = along - lower[order] @ rows
         across = across - np.swapaxes(lower @ rows[:, :, order], 1, 2)
     return along, across

@@ -500,24 +500,29 @@ class _Expansions:
         speeds = pencils.speeds
         first, last = self.pieces[at, 0], self.pieces[at, 1]
         inside = (first <= anchor) & (anchor <= last) & (speeds[last] > speeds[first])
+        span = (speeds[last] - speeds[first])[:, None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope_k = (pencils.kb[last] - pencils.kb[first]) / span              # (X, e): each speed's piece's
+            slope_c = (pencils.cb[last] - pencils.cb[first]) / span
+        step = (speeds[at] - speeds[anchor])[:, None]
+        off_k = np.abs(pencils.kb[at] - pencils.kb[anchor] - step * slope_k)
+        off_c = np.abs(pencils.cb[at] - pencils.cb[anchor] - step * slope_c)
+        # a piece of the whole sweep may be coefficients smooth in the speed, not affine (a journal
+        # bearing's): a speed whose entries leave the line by more than ``_AFFINE`` takes ``F`` whole
+        with np.errstate(invalid="ignore"):
+            inside &= (off_k <= _AFFINE * np.max(np.abs(pencils.kb), axis=0, initial=0.0)).all(axis=1) \
+                & (off_c <= _AFFINE * np.max(np.abs(pencils.cb), axis=0, initial=0.0)).all(axis=1)
         which = np.full(len(at), -1)
-        keys, place, ends = np.unique(first[inside], return_index=True, return_inverse=True)[:3] \
-            if inside.any() else (np.zeros(0, int), np.zeros(0, int), np.zeros(0, int))
-        which[inside] = ends
-        ends = last[inside][place]                                             # each piece's last speed
-        span = (speeds[ends] - speeds[keys])[:, None]
-        slope_k = (pencils.kb[ends] - pencils.kb[keys]) / span                 # (G, e)
-        slope_c = (pencils.cb[ends] - pencils.cb[keys]) / span
-        unit = _changed_by(np.ones(len(keys)), slope_k, slope_c, factors)
+        keys, place, which[inside] = np.unique(first[inside], return_index=True, return_inverse=True)
+        at_key = np.nonzero(inside)[0][place]                                  # a speed of each piece
+        unit = _changed_by(np.ones(len(keys)), slope_k[at_key], slope_c[at_key], factors)    # (G, 2m, 2m)
         slack = np.zeros((len(at), lower.shape[0]))
         if len(pencils.rows) and inside.any():
-            step = (speeds[at[inside]] - speeds[anchor])[:, None]
-            off_k = np.abs(pencils.kb[at[inside]] - pencils.kb[anchor] - step * slope_k[which[inside]])
-            off_c = np.abs(pencils.cb[at[inside]] - pencils.cb[anchor] - step * slope_c[which[inside]])
             # sum_l |dK_e V_top + dC_e V_bottom| of each entry's row of the factors, by the entries' rows
             size_k = np.abs(stiff).sum(axis=1)[entries.column]                   # (r, q)
             size_c = np.abs(damp).sum(axis=1)[entries.column]
-            terms = np.where(entries.used, off_k[:, entries.entry] * size_k + off_c[:, entries.entry] * size_c, 0.0)
+            terms = np.where(entries.used, off_k[inside][:, entries.entry] * size_k
+                             + off_c[inside][:, entries.entry] * size_c, 0.0)
             slack[inside] = terms.sum(axis=2) @ np.abs(lower).T                  # (X', 2m)
         return unit, which, slack
 

@@ -251,3 +251,39 @@ def test_the_whole_change_is_made_only_across_a_knot(carried):
     ex = seen["expansions"]
     assert len(ex.between) == 185
     assert 0 < seen["whole"] <= 24
+
+
+def test_the_few_speeds_projected_roots_are_solved_once():
+    """The Arnoldi test and the reduced route both take the highest root wanted from the projected
+    roots of the same few speeds on the same modes: solved once, not twice (and the roots are
+    scipy's: the sweep's lowest 12 at one of those speeds)."""
+    from rotordyn_modal.analysis import _lowest_bound, _lowest_route
+
+    path = DATA / "compressor_example.toml"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = rdm.Model.from_dict(read_ross_rotor(path), source=path)
+    speeds = np.linspace(LOW, HIGH, 41)
+    picked = np.unique(np.round(np.linspace(0, len(speeds) - 1, _lowest_bound._FEW)).astype(int))     # 0, 10, ..., 40
+    few = []
+    modules = [module for module in (_lowest, _lowest_route, _lowest_starts) if hasattr(module, "_projected_starts")]
+    saved = [module._projected_starts for module in modules]
+
+    def counting(original):
+        def counted(pencils, basis, want, index=None, vectors_at=None):
+            if index is not None and np.array_equal(index, picked):
+                few.append(len(index))
+            return original(pencils, basis, want, index, vectors_at)
+        return counted
+
+    for module, original in zip(modules, saved):
+        module._projected_starts = counting(original)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            result = rdm.campbell(model, speeds, critical=False, modes=12)
+    finally:
+        for module, original in zip(modules, saved):
+            module._projected_starts = original
+    assert few == [_lowest_bound._FEW]
+    assert_lowest_are_the_full_models(model, speeds[10], result.eigenvalues[10])

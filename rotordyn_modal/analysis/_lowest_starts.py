@@ -65,6 +65,20 @@ def _projected_starts(pencils, basis, want, index=None, vectors_at=None):
     return starts, vectors
 
 
+def projected_roots_kept(pencils, basis, want, index):
+    """The roots of :func:`_projected_starts` (S, want) at the speeds ``index``, the last asked kept on
+    ``pencils``: the reduced route's highest root wanted (``_lowest._reduced_roots``) asks for those
+    the Arnoldi test (``_lowest_route._crowded``) made, on the same modes (one dense ``eigh``: equal
+    bit for bit), and takes them again. Anything else asked is made."""
+    kept = pencils.__dict__.get("_kept_roots")
+    if kept is not None and kept[1] == want and np.array_equal(kept[2], index) and kept[0].shape == basis.shape \
+            and np.array_equal(kept[0], basis):
+        return kept[3]
+    roots = _projected_starts(pencils, basis, want, index)[0]
+    pencils.__dict__["_kept_roots"] = (basis.copy(), want, np.array(index), roots)
+    return roots
+
+
 def frequency_key(lam):
     """The sort key of roots ``lam`` (any shape) by frequency: ``Im lam`` of the oscillating roots,
     ``inf`` for the others (pushed to the end)."""

@@ -527,7 +527,9 @@ class _Expansions:
             inside &= (off_k <= _AFFINE * np.max(np.abs(pencils.kb), axis=0, initial=0.0)).all(axis=1) \
                 & (off_c <= _AFFINE * np.max(np.abs(pencils.cb), axis=0, initial=0.0)).all(axis=1)
         which = np.full(len(at), -1)
-        keys, place, which[inside] = np.unique(first[inside], return_index=True, return_inverse=True)
+        # pieces by both ends (speeds left out of every piece take the whole sweep's, which may share a first speed)
+        keys, place, which[inside] = np.unique((first * len(speeds) + last)[inside], return_index=True,
+                                               return_inverse=True)
         at_key = np.nonzero(inside)[0][place]                                  # a speed of each piece
         unit = _changed_by(np.ones(len(keys)), slope_k[at_key], slope_c[at_key], factors)    # (G, 2m, 2m)
         slack = np.zeros((len(at), lower.shape[0]))

@@ -180,11 +180,9 @@ def test_the_count_needs_memory_of_the_discs_not_their_square():
     assert peak < 16 * 2**20, peak
 
 
-@pytest.fixture(scope="module")
-def carried():
-    """compressor_example at 201 speeds (its bearing tables bend every 1,000 rpm: at speeds 50, 100
-    and 150): the model, the main pass's expansions and basis, and the speeds at which ``F`` was made
-    whole (``_lowest_starts._changed`` without ``order``)."""
+def _carried(count):
+    """compressor_example at ``count`` speeds: the model, the main pass's expansions and basis, and
+    the speeds at which ``F`` was made whole (``_lowest_starts._changed`` without ``order``)."""
     path = DATA / "compressor_example.toml"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -207,10 +205,16 @@ def carried():
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            rdm.campbell(model, np.linspace(LOW, HIGH, 201), critical=False, modes=12)
+            rdm.campbell(model, np.linspace(LOW, HIGH, count), critical=False, modes=12)
     finally:
         _lowest._Expansions, _lowest_starts._changed = original, changed
     return model, seen
+
+
+@pytest.fixture(scope="module")
+def carried():
+    """201 speeds: the bearing tables bend every 1,000 rpm, at speeds 50, 100 and 150."""
+    return _carried(201)
 
 
 def _projected_state(model, basis, speed):
@@ -220,17 +224,22 @@ def _projected_state(model, basis, speed):
     return np.block([[np.zeros((m, m)), np.eye(m)], [-basis.T @ K @ basis, -basis.T @ (C + speed * G) @ basis]])
 
 
-def test_the_discs_hold_the_exact_discs_across_the_tables_knots(carried):
-    """At every carried speed, each Gershgorin disc of ``V^-1 A_j V`` (``V``: numpy's eigenvectors
+@pytest.mark.parametrize("count", [201, 67])
+def test_the_discs_hold_the_exact_discs_across_the_tables_knots(carried, count):
+    """At carried speeds near the knots and some others (201 speeds: knots at speeds 50, 100, 150;
+    67 speeds: knots between speeds, 16-17, 33-34, 49-50), each Gershgorin disc of ``V^-1 A_j V`` (``V``: numpy's eigenvectors
     of the nearer anchor's projected state matrix ``A_a``, both built here from
     ``model.matrices``) lies inside one of the sweep's discs (to 1e-9 of the largest root), and
     the centers agree to that: the discs made from one matrix per piece of the bearing tables
     are the exact ones, on both sides of a knot."""
-    model, seen = carried
+    model, seen = carried if count == 201 else _carried(count)
     ex, basis = seen["expansions"], seen["basis"]
     speeds = ex.speeds
-    rows = [row for row, speed in enumerate(ex.between) if speed % 50 in (47, 48, 49, 0, 1, 2, 3) or speed % 37 == 0]
-    assert len(rows) > 20
+    knots = LOW + np.array([1, 2, 3]) * (HIGH - LOW) / 4                 # 7,000, 8,000 and 9,000 rpm
+    step = (HIGH - LOW) / (count - 1)
+    rows = [row for row, speed in enumerate(ex.between)
+            if np.min(np.abs(speeds[speed] - knots)) <= 3.5 * step or speed % 37 == 0]
+    assert len(rows) > 15
     for row in rows:
         anchor = ex.solved[ex.near[row]]
         lam, V = np.linalg.eig(_projected_state(model, basis, speeds[anchor]))

@@ -42,7 +42,7 @@ from ._lowest_newton import _continued, _refined, _speeds_named
 from ._lowest_pencils import _Pencils
 from ._lowest_starts import (_NODES, _SOLVED, _anchors, _by_frequency, _close, _continuation_guesses, _Expansions,
                              _expansion_guesses, _pencil_shapes_part, _projected_guesses, _projected_starts,
-                             frequency_key, lowest_order)
+                             frequency_key, lowest_order, projected_roots_kept)
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -140,7 +140,7 @@ def _reduced_roots(stack, speeds, count, progress=False):
     want = min(count + 1, size)
     # the highest root wanted, from a few speeds (an underestimate only makes the final check stricter)
     few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
-    rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, modes[:, :size], want, few)[0]))
+    rho = _MARGIN * np.max(np.abs(projected_roots_kept(pencils, modes[:, :size], want, few)))
     size = min(n, max(_needed_size(bound, rho, size), want))
     _, attached = bound.shares(size, rho)
     if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the wanted roots
@@ -333,8 +333,9 @@ def _swept(pencils, basis, want, count):
 #: one process, median of 8-10 pairs: 401 speeds 7-9 % less, no middle anchor solved; 201 speeds
 #: 3 % less, 2 of 12 solved; 101 speeds the same (0.99), every middle anchor solved)
 _SPARSE_SOLVED = 4
-#: the pilot's decompositions are kept for the sweep up to this much memory [bytes]; beyond, every
-#: ``_SOLVED``-th anchor is solved
+#: the pilot's decompositions are kept for the main pass up to this much memory [bytes] (the main
+#: pass takes them out as it uses them and keeps none of its own); beyond, every ``_SOLVED``-th
+#: anchor is solved
 _PILOT_BYTES = 64 * 2**20
 
 

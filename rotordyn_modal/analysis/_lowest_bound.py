@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 import scipy.sparse
+import scipy.sparse.csgraph
 
 from . import _batches
 from ._lowest_pencils import _block, _nonzero
@@ -235,24 +236,54 @@ def _gershgorin_count(centers, radii, limit):
 
 
 def _counted(centers, radii, limit):
-    """:func:`_gershgorin_count` of some speeds."""
+    """:func:`_gershgorin_count` of some speeds: the discs' connected parts from the pairs that touch
+    (:func:`_touching`), by ``scipy.sparse.csgraph`` over every speed's discs at once (a part never
+    spans two speeds)."""
     J, p = centers.shape
     finite = np.isfinite(centers).all(axis=1) & np.isfinite(radii).all(axis=1)
     c, r = np.where(finite[:, None], centers, 0), np.where(finite[:, None], radii, 0.0)
-    touching = np.abs(c[:, :, None] - c[:, None, :]) <= r[:, :, None] + r[:, None, :]        # (J, p, p)
-    # the connected parts: each disc labelled by the least disc it reaches
-    label = np.broadcast_to(np.arange(p), (J, p))
-    while True:
-        joined = np.where(touching, label[:, None, :], p).min(axis=2)
-        if np.array_equal(joined, label):
+    first, second = _touching(c, r)
+    graph = scipy.sparse.csr_matrix((np.ones(len(first), bool), (first, second)), shape=(J * p, J * p))
+    parts, label = scipy.sparse.csgraph.connected_components(graph, directed=False)
+    speed = np.zeros(parts, int)
+    speed[label] = np.repeat(np.arange(J), p)
+    low, high = np.full(parts, np.inf), np.full(parts, -np.inf)
+    np.minimum.at(low, label, (c.imag - r).ravel())
+    np.maximum.at(high, label, (c.imag + r).ravel())
+    size = np.bincount(label, minlength=parts)
+    upper = np.bincount(label, weights=(c.imag >= 0).ravel(), minlength=parts).astype(int)
+    counted = (low < limit[speed]) & (high > 0)
+    counts = np.bincount(speed, weights=np.where(counted, np.where(low > 0, size, upper), 0), minlength=J)
+    return np.where(finite, counts.astype(int), np.iinfo(int).max)
+
+
+#: the imaginary extents of two discs whose distance is compared (:func:`_touching`) are widened by
+#: this times their moduli: the extents' round-off cannot drop a pair that touches
+_WIDENED = 1e-12
+
+
+def _touching(centers, radii):
+    """The pairs of discs that touch (``|c_a - c_b| <= r_a + r_b``) of every row of ``centers`` and
+    ``radii`` (J, p), as places in the flattened rows (J p,) each way: only the pairs whose
+    imaginary extents overlap are compared. By each row's discs in the order of their extents'
+    lower ends, the discs after a disc that overlap it are the next ones up to the first that starts
+    above its upper end: offsets ``k = 1, 2, ...`` in turn while any pair that far apart overlaps
+    (the speeds' ``p^2`` distances cost more than finding their few parts, measured on
+    ``compressor_example``: 98 discs, 2 % touching)."""
+    J, p = centers.shape
+    slack = _WIDENED * (np.abs(centers.imag) + radii)
+    order = np.argsort(centers.imag - radii - slack, axis=1)
+    c, r = np.take_along_axis(centers, order, 1), np.take_along_axis(radii, order, 1)
+    low = c.imag - r - np.take_along_axis(slack, order, 1)
+    high = c.imag + r + np.take_along_axis(slack, order, 1)
+    flat = order + p * np.arange(J)[:, None]
+    first, second = [], []
+    for k in range(1, p):
+        row, at = np.nonzero(low[:, k:] <= high[:, :-k])
+        if not len(row):
             break
-        label = joined
-    flat = (label + p * np.arange(J)[:, None]).ravel()
-    low, high = np.full(J * p, np.inf), np.full(J * p, -np.inf)
-    np.minimum.at(low, flat, (c.imag - r).ravel())
-    np.maximum.at(high, flat, (c.imag + r).ravel())
-    size = np.bincount(flat, minlength=J * p)
-    upper = np.bincount(flat, weights=(c.imag >= 0).ravel(), minlength=J * p).astype(int)
-    counted = (size > 0) & (low < np.repeat(limit, p)) & (high > 0)
-    counts = np.where(counted, np.where(low > 0, size, upper), 0).reshape(J, p).sum(axis=1)
-    return np.where(finite, counts, np.iinfo(int).max)
+        near = np.abs(c[row, at] - c[row, at + k]) <= r[row, at] + r[row, at + k]
+        first.append(flat[row[near], at[near]])
+        second.append(flat[row[near], at[near] + k])
+    empty = np.zeros(0, int)
+    return np.concatenate(first + [empty]), np.concatenate(second + [empty])

@@ -216,10 +216,11 @@ class _Pencils:
                 lam_out[part], x_out[part] = s2, x2
                 first[part], second[part] = np.abs(step) / np.abs(s2), 0.0
                 second[part][chord] = np.abs(ds) / np.abs(s2[chord])
-                length = np.einsum("pi,pi->p", x0.conj(), x0).real
-                aligned = np.abs(np.einsum("pi,pi->p", x0.conj(), x2)) ** 2 \
+                start = x0.conj()
+                length = np.einsum("pi,pi->p", start, x0).real
+                aligned = np.abs(np.einsum("pi,pi->p", start, x2)) ** 2 \
                     >= (1 - _ALIGNED) * length * np.einsum("pi,pi->p", x2.conj(), x2).real
-                slope[part] = np.where(aligned, np.abs(np.einsum("pi,pi->p", x0.conj(), derivative)) / length, np.nan)
+                slope[part] = np.where(aligned, np.abs(np.einsum("pi,pi->p", start, derivative)) / length, np.nan)
         return lam_out, x_out, first, second, slope
 
     def _chord_solve(self, ab, pivots, factored, rhs, which=None):
@@ -227,9 +228,14 @@ class _Pencils:
         (P, n) of ``zgbtrf`` (with ``which`` (R,): of the rows ``which`` of them, ``rhs`` (R, n));
         nan where a pencil was singular (``factored`` False)."""
         band = self.band
-        y = np.ascontiguousarray(rhs[:, band.order])
+        if self.__dict__.get("_in_order") is None:      # the band in the coordinates' own order (a shaft)
+            self._in_order = bool(np.array_equal(band.order, np.arange(len(band.order))))
+        # a copy in the band's order (its own where that is the coordinates': no gather and scatter)
+        y = np.array(rhs, dtype=complex, order="C") if self._in_order else np.ascontiguousarray(rhs[:, band.order])
         _back_solved(band.lower, band.upper, ab, pivots, y, which)
         y[~(factored if which is None else factored[which])] = np.nan
+        if self._in_order:
+            return y
         out = np.empty(y.shape, complex)
         out[:, band.order] = y
         return out

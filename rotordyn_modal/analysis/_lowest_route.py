@@ -18,7 +18,7 @@ import scipy.sparse.linalg
 from . import _arnoldi, _lowest_bound
 from ._lowest_bound import _FEW, _MARGIN
 from ._lowest_pencils import _block, _nonzero
-from ._lowest_starts import _projected_starts
+from ._lowest_starts import projected_roots_kept
 from .._blas import seeded_start
 
 __all__: list[str] = []
@@ -79,7 +79,7 @@ def _crowded(stack, pencils, count=None, limit=None) -> bool:
     else:
         speeds = pencils.speeds
         few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
-        starts = _projected_starts(pencils, modes[:, :size], min(count + 1, size), few)[0]
+        starts = projected_roots_kept(pencils, modes[:, :size], min(count + 1, size), few)
         rho = _LOWER_RHO * _MARGIN * np.max(np.abs(starts))
     middle = stack.__dict__.get("_lowest_middle")     # from the dense eigh of a small model
     if middle is None:

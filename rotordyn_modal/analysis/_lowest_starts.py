@@ -65,6 +65,20 @@ def _projected_starts(pencils, basis, want, index=None, vectors_at=None):
     return starts, vectors
 
 
+def projected_roots_kept(pencils, basis, want, index):
+    """The roots of :func:`_projected_starts` (S, want) at the speeds ``index``, the last asked kept on
+    ``pencils``: the reduced route's highest root wanted (``_lowest._reduced_roots``) asks for those
+    the Arnoldi test (``_lowest_route._crowded``) made, on the same modes (one dense ``eigh``: equal
+    bit for bit), and takes them again. Anything else asked is made."""
+    kept = pencils.__dict__.get("_kept_roots")
+    if kept is not None and kept[1] == want and np.array_equal(kept[2], index) and kept[0].shape == basis.shape \
+            and np.array_equal(kept[0], basis):
+        return kept[3]
+    roots = _projected_starts(pencils, basis, want, index)[0]
+    pencils.__dict__["_kept_roots"] = (basis.copy(), want, np.array(index), roots)
+    return roots
+
+
 def frequency_key(lam):
     """The sort key of roots ``lam`` (any shape) by frequency: ``Im lam`` of the oscillating roots,
     ``inf`` for the others (pushed to the end)."""
@@ -312,9 +326,11 @@ class _Expansions:
         nodes are taken from (ascending).
     eigen : dict, optional
         The anchors' ``eig`` (roots (2m,), eigenvectors (2m, 2m)) by speed: those found there are
-        taken, not solved again, and those solved here are added (the state matrices are the same
-        bits where ``solved[0]`` is: :func:`_state_matrices` is relative to it), with their products
-        (:func:`_decomposition`).
+        taken, not solved again (the state matrices are the same bits where ``solved[0]`` is:
+        :func:`_state_matrices` is relative to it), with their products (:func:`_decomposition`).
+        Without ``nodes`` (the pilot) those solved here are added; with (the main pass) those
+        taken are removed as they are used, so the dict holds no more than the pilot's anchors, and
+        none once the main pass is made (``_lowest._PILOT_BYTES`` bounds them).
     nodes : bool
         Make the roots' changes at the nodes (``node_changes``); without, only the discs and the
         changes at the speeds (:func:`._lowest._solved_levels`' pilot).
@@ -343,7 +359,7 @@ class _Expansions:
             t = np.where(span != 0, (speeds[self.between] - speeds[solved[left]]) / span, 0.5)
         self.near = np.where(t < 0.5, left, right)
         q = min([_MOST_NODES] + [len(grid) for _, grid in levels])
-        pieces = _affine_pieces(speeds, np.hstack([pencils.kb, pencils.cb]))
+        self.pieces = pieces = _affine_pieces(speeds, np.hstack([pencils.kb, pencils.cb]))
         self.nodes = np.concatenate([_around(grid, part, q, pieces) for part, grid in levels]).reshape(
             len(self.between), q)
         at = speeds[self.nodes]                                                      # (J, q)
@@ -409,7 +425,7 @@ class _Expansions:
                 lam[place], V[place] = self.eigen[int(at[place])][:2]
             if not known.all():
                 lam[~known], V[~known] = _batches._threaded(np.linalg.eig, A[~known], item_bytes=48 * A.shape[-1] ** 2)
-        if self.eigen is not None:
+        if self.eigen is not None and not self.at_nodes:        # the pilot's, for the main pass
             for place, a in enumerate(at):
                 self.eigen.setdefault(int(a), (lam[place], V[place]))
         return lam, V
@@ -421,14 +437,16 @@ class _Expansions:
         their own roots). Each anchor's numbers are its own, whichever anchors share the call; an
         anchor's products (:func:`_decomposition`) are taken from ``eigen`` where they are there."""
         at = self.solved[places]
-        parts = [self.eigen[int(a)][2] if self.eigen is not None and len(self.eigen.get(int(a), ())) > 2 else None
-                 for a in at]
+        kept = {} if self.eigen is None else self.eigen
+        # the main pass takes the pilot's anchors out of ``eigen`` as it uses them: the pilot's are held no longer
+        held = [kept.get(int(a), ()) if not self.at_nodes else kept.pop(int(a), ()) for a in at]
+        parts = [entry[2] if len(entry) > 2 else None for entry in held]
         new = np.array([part is None for part in parts], bool)
         if new.any():
             made = iter(_decomposition(basis, Gr, entries, A[new], lam[new], V[new]))
             parts = [next(made) if part is None else part for part in parts]
-            if self.eigen is not None:
-                for a, part in zip(at[new], np.array(parts, object)[new]):
+            if self.eigen is not None and not self.at_nodes:
+                for a, part in zip(at[new], [part for part, made_here in zip(parts, new) if made_here]):
                     self.eigen[int(a)] = self.eigen[int(a)][:2] + (part,)
         for j, place in enumerate(places):
             if parts[j] is not False:
@@ -438,24 +456,91 @@ class _Expansions:
 
     def _near(self, pencils, place, lam, order, error, factors):
         """The discs and the roots' changes at the speeds nearer the anchor ``place`` and at their
-        nodes, from that anchor's decomposition (``error`` (2m,): its rows' error)."""
+        nodes, from that anchor's decomposition (``error`` (2m,): its rows' error). Where the
+        bearings' entries are affine in the speed from the anchor to a speed (:meth:`_affine`),
+        ``F`` there is the step times one matrix per piece: the discs and changes are that matrix's
+        scaled (its products made once, not at every speed)."""
         rows = np.nonzero(self.near == place)[0]
         if not len(rows):
             return
         anchor = self.solved[place]
-        F = _changed(pencils, self.between[rows], anchor, factors)                  # (R, 2m, 2m)
-        diagonal = np.einsum("xii->xi", F)
-        self.centers[rows] = lam + diagonal
-        self.radii[rows] = np.abs(F).sum(axis=2) - np.abs(diagonal) + error
         gaps = lam[order][:, None] - lam[None, :]                                   # (want, 2m)
         gaps[np.arange(len(order)), order] = np.inf
-        self.changes[rows] = _second_order(F[:, order, :], np.swapaxes(F[:, :, order], 1, 2), order, gaps)
+        nodes = np.unique(self.nodes[rows]) if self.at_nodes else np.zeros(0, int)
+        at = np.concatenate([self.between[rows], nodes])
+        unit, which, slack = self._affine(pencils, anchor, at, factors)
+        step = pencils.speeds[at] - pencils.speeds[anchor]
+        # the unit matrices' discs and second-order terms: a change is ``t F_kk + t^2 sum F_kl F_lk / gap``
+        diagonal = np.einsum("gii->gi", unit)
+        off = np.abs(unit).sum(axis=2) - np.abs(diagonal)
+        along, across = unit[:, order, :], np.swapaxes(unit[:, :, order], 1, 2)
+        own = np.take_along_axis(along, order[None, :, None], axis=2)[..., 0]
+        square = np.sum(along * across / gaps, axis=2)                                 # (G, want)
+        affine, count = which >= 0, len(rows)
+        change = np.empty((len(at), len(order)), complex)
+        t, g = step[affine], which[affine]
+        change[affine] = t[:, None] * own[g] + (t ** 2)[:, None] * square[g]
+        here = affine[:count]
+        t, g = step[:count][here], which[:count][here]
+        self.centers[rows[here]] = lam + t[:, None] * diagonal[g]
+        self.radii[rows[here]] = np.abs(t)[:, None] * off[g] + error + slack[:count][here]
+        direct = rows[~here]
+        if len(direct):
+            F = _changed(pencils, self.between[direct], anchor, factors)            # (R, 2m, 2m)
+            diagonal = np.einsum("xii->xi", F)
+            self.centers[direct] = lam + diagonal
+            self.radii[direct] = np.abs(F).sum(axis=2) - np.abs(diagonal) + error
+            change[np.nonzero(~here)[0]] = _second_order(F[:, order, :], np.swapaxes(F[:, :, order], 1, 2),
+                                                          order, gaps)
+        self.changes[rows] = change[:count]
         if not self.at_nodes:
             return
-        nodes = np.unique(self.nodes[rows])
-        along, across = _changed(pencils, nodes, anchor, factors, order)           # F's rows and columns of the roots
-        change = _second_order(along, across, order, gaps)
-        self.node_changes[rows] = change[np.searchsorted(nodes, self.nodes[rows])]
+        others = np.nonzero(~affine[count:])[0]
+        if len(others):
+            along, across = _changed(pencils, nodes[others], anchor, factors, order)   # F's rows and columns of the roots
+            change[count + others] = _second_order(along, across, order, gaps)
+        self.node_changes[rows] = change[count:][np.searchsorted(nodes, self.nodes[rows])]
+
+    def _affine(self, pencils, anchor, at, factors):
+        """Where ``F`` (:func:`_changed`) at the speeds ``at`` (X,) is the step from the anchor times
+        one matrix: the speed's piece (``pieces``, :func:`_affine_pieces`) holds the anchor, so the
+        bearings' entries change by the step times the piece's slope (the line through its ends).
+        Returns that matrix of each piece (G, 2m, 2m) (``F`` per unit of speed), each speed's piece
+        (X,) (-1 where the piece does not hold the anchor: ``F`` made there) and a bound (X, 2m) on
+        each row's ``sum_l |F_il - t F'_il|``, the entries' departures from the line (a table's
+        round-off; :func:`_affine_pieces` takes entries within ``_AFFINE`` as affine), added to the
+        radii: a disc then holds the exact ``F``'s."""
+        gyroscopic, lower, stiff, damp, entries = factors
+        speeds = pencils.speeds
+        first, last = self.pieces[at, 0], self.pieces[at, 1]
+        inside = (first <= anchor) & (anchor <= last) & (speeds[last] > speeds[first])
+        span = (speeds[last] - speeds[first])[:, None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope_k = (pencils.kb[last] - pencils.kb[first]) / span              # (X, e): each speed's piece's
+            slope_c = (pencils.cb[last] - pencils.cb[first]) / span
+        step = (speeds[at] - speeds[anchor])[:, None]
+        off_k = np.abs(pencils.kb[at] - pencils.kb[anchor] - step * slope_k)
+        off_c = np.abs(pencils.cb[at] - pencils.cb[anchor] - step * slope_c)
+        # a piece of the whole sweep may be coefficients smooth in the speed, not affine (a journal
+        # bearing's): a speed whose entries leave the line by more than ``_AFFINE`` takes ``F`` whole
+        with np.errstate(invalid="ignore"):
+            inside &= (off_k <= _AFFINE * np.max(np.abs(pencils.kb), axis=0, initial=0.0)).all(axis=1) \
+                & (off_c <= _AFFINE * np.max(np.abs(pencils.cb), axis=0, initial=0.0)).all(axis=1)
+        which = np.full(len(at), -1)
+        # pieces by both ends (speeds left out of every piece take the whole sweep's, which may share a first speed)
+        keys, place, which[inside] = np.unique((first * len(speeds) + last)[inside], return_index=True,
+                                               return_inverse=True)
+        at_key = np.nonzero(inside)[0][place]                                  # a speed of each piece
+        unit = _changed_by(np.ones(len(keys)), slope_k[at_key], slope_c[at_key], factors)    # (G, 2m, 2m)
+        slack = np.zeros((len(at), lower.shape[0]))
+        if len(pencils.rows) and inside.any():
+            # sum_l |dK_e V_top + dC_e V_bottom| of each entry's row of the factors, by the entries' rows
+            size_k = np.abs(stiff).sum(axis=1)[entries.column]                   # (r, q)
+            size_c = np.abs(damp).sum(axis=1)[entries.column]
+            terms = np.where(entries.used, off_k[inside][:, entries.entry] * size_k
+                             + off_c[inside][:, entries.entry] * size_c, 0.0)
+            slack[inside] = terms.sum(axis=2) @ np.abs(lower).T                  # (X', 2m)
+        return unit, which, slack
 
 
 def _decomposition(basis, Gr, entries, A, lam, V):
@@ -600,22 +685,29 @@ def _changed(pencils, at, anchor, factors, order=None):
     rows (2m, r), ``W`` at their distinct columns times ``V_top`` and ``V_bottom`` (c, 2m) each, and
     their :class:`_BearingEntries`). (X, 2m, 2m); with ``order`` (k,) its rows and columns
     (transposed) at those roots only, (X, k, 2m) each."""
+    return _changed_by(pencils.speeds[at] - pencils.speeds[anchor], pencils.kb[at] - pencils.kb[anchor],
+                       pencils.cb[at] - pencils.cb[anchor], factors, order)
+
+
+def _changed_by(step, dk, dc, factors, order=None):
+    """:func:`_changed` of the changes ``step`` (X,) [rad/s] of the speed and ``dk``, ``dc`` (X, e) of
+    the bearings' entries (``pencils.kb``, ``pencils.cb``)."""
     gyroscopic, lower, stiff, damp, entries = factors
-    step = (pencils.speeds[at] - pencils.speeds[anchor])[:, None, None]
-    if len(pencils.rows):
+    step = np.asarray(step)[:, None, None]
+    if dk.shape[1]:
         # dK_b V_top + dC_b V_bottom on the bearings' distinct rows, (X, r, 2m): each row's entries in turn
-        dk = np.where(entries.used, pencils.kb[at][:, entries.entry] - pencils.kb[anchor][entries.entry], 0.0)
-        dc = np.where(entries.used, pencils.cb[at][:, entries.entry] - pencils.cb[anchor][entries.entry], 0.0)
+        dk = np.where(entries.used, dk[:, entries.entry], 0.0)
+        dc = np.where(entries.used, dc[:, entries.entry], 0.0)
         rows = dk[:, :, 0, None] * stiff[entries.column[:, 0]] + dc[:, :, 0, None] * damp[entries.column[:, 0]]
         for j in range(1, entries.entry.shape[1]):
             rows += dk[:, :, j, None] * stiff[entries.column[:, j]] + dc[:, :, j, None] * damp[entries.column[:, j]]
     if order is None:
         F = -step * gyroscopic
-        if len(pencils.rows):
+        if dk.shape[1]:
             F -= lower @ rows
         return F
     along, across = -step * gyroscopic[order], -step * gyroscopic[:, order].T
-    if len(pencils.rows):
+    if dk.shape[1]:
         along = along - lower[order] @ rows
         across = across - np.swapaxes(lower @ rows[:, :, order], 1, 2)
     return along, across

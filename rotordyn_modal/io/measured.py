@@ -32,7 +32,7 @@ import numpy as np
 from ..analysis.frf import FRFResult
 from ..errors import InputError
 from ..model._table import visible_names
-from .channels import ChannelMap, assemble, default_mapping, read_mapping
+from .channels import _LARGEST_VALUE, ChannelMap, assemble, default_mapping, read_mapping
 
 __all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap",
            "check_mapping_used", "is_universal_file", "sniffed_ending", "piped_copy"]
@@ -256,11 +256,13 @@ def _check_polar_agrees(table, column, values, path) -> None:
     size = np.abs(values)
     magnitude = column["magnitude"]
     with np.errstate(invalid="ignore"):
-        bad = np.isfinite(magnitude) & ~(np.abs(magnitude - size) <= relative * np.maximum(size, np.abs(magnitude)))
+        # a value past _LARGEST_VALUE is refused as such by the check after this one
+        judged = np.isfinite(magnitude) & (size <= _LARGEST_VALUE) & (np.abs(magnitude) <= _LARGEST_VALUE)
+        bad = judged & ~(np.abs(magnitude - size) <= relative * np.maximum(size, np.abs(magnitude)))
         what = "|real + i imag|"
         if "phase_deg" in column and not bad.any():
             turn = np.angle(values, deg=True) - column["phase_deg"]
-            bad = (size > 0) & np.isfinite(turn) & ~(np.abs((turn + 180.0) % 360.0 - 180.0) <= degrees)
+            bad = judged & (size > 0) & np.isfinite(turn) & ~(np.abs((turn + 180.0) % 360.0 - 180.0) <= degrees)
             what = "the phase of real + i imag"
     if not bad.any():
         return

@@ -61,13 +61,13 @@ def plot_mode_shape(view, ax=None, phase: float = 0.0, orbits: bool = True, labe
     fig, ax, flat = _figure(ax, projections)
     # frame first and hold it: mplot3d's autoscaling can overflow to infinite limits when
     # collections arrive on a fresh 3D axes
-    _frame(ax, flat, view, units)
+    _frame(ax, flat, view, units, phase)
     ax.set_autoscale_on(False)
     _draw_static(ax, flat, view, orbits)
     _draw_displaced(ax, flat, view, phase)
     if labels:
         _label_arrows(ax, view, phase)
-    _frame(ax, flat, view, units)
+    _frame(ax, flat, view, units, phase)
     ax.set_title(title or _title(view), fontsize="medium")
     _legend(ax, view, orbits)
     return fig
@@ -881,9 +881,12 @@ def _label_arrows(ax, view, phase):
     ax.add_artist(layout)
 
 
-def _frame(ax, flat, view, units="si"):
-    points = np.concatenate([b.vertices for b in view.outline.bodies]
-                            + [np.array([s.point_b for s in view.outline.springs]).reshape(-1, 3)])
+def _frame(ax, flat, view, units="si", phase=None):
+    """Limits, labels and ticks of the 3D axes ``ax`` and its projections ``flat``: one cube
+    around the machine at rest and, given ``phase`` [rad], its displaced drawing at that phase
+    (a displaced body beyond the outline is drawn whole, not cut at the frame's edge), with a
+    margin of 0.15 of the outline's size."""
+    points = np.concatenate(_frame_points(view, phase))
     low, high = points.min(axis=0), points.max(axis=0)
     centre, half = 0.5 * (low + high), 0.5 * (high - low).max() + 0.15 * view.outline.size
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre):
@@ -907,6 +910,18 @@ def _frame(ax, flat, view, units="si"):
         panel.set_title(name, fontsize="small")
         panel.tick_params(labelsize="x-small")
         panel.grid(True, alpha=0.3)
+
+
+def _frame_points(view, phase=None):
+    """Points [m] the frame must hold, a list of (n, 3) arrays: the bodies and springs at rest
+    and, given ``phase`` [rad], the displaced bodies, brackets and springs."""
+    points = [b.vertices for b in view.outline.bodies]
+    points.append(np.array([s.point_b for s in view.outline.springs]).reshape(-1, 3))
+    if phase is not None:
+        points += list(view.at_phase(phase))
+        points += [np.asarray(b, float).reshape(-1, 3) for b in view.brackets_at_phase(phase)]
+        points += [np.asarray(pair, float).reshape(-1, 3) for pair in view.springs_at_phase(phase)]
+    return [p for p in points if len(p)]
 
 
 def _unit_ticks(axis, factor):

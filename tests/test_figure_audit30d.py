@@ -191,3 +191,48 @@ def _segments_meet(xy, box, frame, samples: int = 64):
         if inside.any():
             return True
     return False
+
+
+# -- 3-D shape views: names side by side read as two ------------------------------------------------
+
+#: white space [points] between two names' backgrounds side by side: more than a space's width
+#: ('x-small' text: about 2 points), so two names never read as one
+_APART_POINTS = 4.0
+
+
+@pytest.mark.parametrize("example, at_rest", [("fan_on_bearings", False), ("spring_block_rotor", False),
+                                              ("fan_on_bearings", True)])
+def test_the_names_of_the_arrows_stand_apart(example, at_rest, monkeypatch):
+    """``modes EX --speed 3000 --shape 3``: fan_on_bearings' 'acc-fan-z' and 'probe-DE-x' stood
+    side by side with less than 2 points of white between them and read as one name. Every two
+    names' drawn boxes (text and background) overlap in height only with
+    :data:`_APART_POINTS` or more between them across, and overlap nowhere. ``at_rest``: framed
+    around the machine at rest only (as main framed it, where the two names came side by side),
+    to hold the names' spacing itself, not the frame that moved them apart."""
+    from rotordyn_modal.analysis.mode_shapes import mode_shape_3d
+    from rotordyn_modal.plotting import shapes3d
+
+    if at_rest:
+        frame = shapes3d._frame
+        monkeypatch.setattr(shapes3d, "_frame", lambda ax, flat, view, units="si", phase=None:
+                            frame(ax, flat, view, units))
+
+    model = rdm.load_model(EXAMPLES / f"{example}.toml")
+    fig = mode_shape_3d(rdm.modal(model, rdm.rpm(3000.0)), model, 3).plot()
+    try:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        layouts = [a for ax in fig.axes for a in ax.artists if a.get_gid() == "arrow-labels"]
+        assert len(layouts) == 1
+        texts = [t for t in layouts[0].arrow_labels.texts if t.get_visible() and t.get_text()]
+        assert len(texts) >= 2
+        boxes = [t.get_bbox_patch().get_window_extent(renderer) for t in texts]
+        apart = _APART_POINTS * fig.dpi / 72.0
+        for i in range(len(boxes)):
+            for j in range(i):
+                a, b = boxes[i], boxes[j]
+                if a.y0 < b.y1 and b.y0 < a.y1:             # side by side (their heights overlap)
+                    across = max(b.x0 - a.x1, a.x0 - b.x1)
+                    assert across >= apart, (texts[i].get_text(), texts[j].get_text(), across * 72.0 / fig.dpi)
+    finally:
+        _close(fig)

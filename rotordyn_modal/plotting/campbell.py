@@ -566,8 +566,10 @@ def _draw_critical(ax, result, scale, sources):
     speeds, freqs = critical.speeds[keep] * scale, np.where(uncertain, on_line[keep], critical.frequencies_hz[keep])
     first = _distinct_points(speeds, freqs)
     speeds, freqs, uncertain = speeds[first], freqs[first], uncertain[first]
+    # clipped to the axes with a margin of a circle's radius: a circle on the edge (a critical speed at
+    # the sweep's last speed) is drawn whole
     ax.plot(speeds[~uncertain], freqs[~uncertain], "o", markersize=_MARKER_POINTS, markerfacecolor="none",
-            markeredgecolor="k", label="critical speed", zorder=3)
+            markeredgecolor="k", label="critical speed", zorder=3)[0].set_clip_box(_padded_axes(ax))
     if uncertain.any():
         ax.plot(speeds[uncertain], freqs[uncertain], "D", markersize=0.8 * _MARKER_POINTS, markerfacecolor="none",
                 markeredgecolor="0.4", zorder=3, gid="critical-uncertain",
@@ -1274,3 +1276,10 @@ def _wrapped(entries, width):
             lines.append(entry)
     return "\n".join(lines)
 
+
+def _padded_axes(ax, pad: float = 0.025):
+    """The axes' box grown by ``pad`` (a fraction of its width and height) on every side, in display
+    coordinates, following the axes' size: a clip box that lets a marker on the edge show whole."""
+    from matplotlib.transforms import Bbox, TransformedBbox
+
+    return TransformedBbox(Bbox([[-pad, -pad], [1 + pad, 1 + pad]]), ax.transAxes)

@@ -1124,8 +1124,9 @@ def _model_lines(ax):
 
 def _mark_clipped(ax):
     """A caret in the curve's colour on the bottom edge at the lowest point of each stretch of a
-    model curve below the axis, and a note in the axes' lower right corner, '▼ below the axis
-    (clipped at 1.5e-07)' (the legend names the curves only)."""
+    model curve below the axis, and a note in the axes' lower right corner (or the first corner
+    whose room no curve runs through, :func:`_clear_corner`), '▼ below the axis (clipped at
+    1.5e-07)' (the legend names the curves only)."""
     bottom = ax.get_ylim()[0]
     first = True
     for line in _model_lines(ax):
@@ -1139,7 +1140,49 @@ def _mark_clipped(ax):
             ax.plot([x[k]], [bottom], marker=7, linestyle="none", ms=6, color=line.get_color(), clip_on=False,
                     gid="clipped", label="_clipped")
             if first:
-                ax.text(0.995, 0.01, f"\u25bc below the axis (clipped at {bottom:.1e})", transform=ax.transAxes,
-                        ha="right", va="bottom", fontsize="xx-small", color="0.25", gid="clipped-note",
-                        bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8})
+                note = ax.text(0.995, 0.01, f"\u25bc below the axis (clipped at {bottom:.1e})", transform=ax.transAxes,
+                               ha="right", va="bottom", fontsize="xx-small", color="0.25", gid="clipped-note",
+                               bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8})
             first = False
+    if not first:                                   # the corner chosen at draw time: final scales and layout
+        from ._labels import draw_time_layout
+
+        layout = draw_time_layout(lambda renderer: _clear_corner(ax, note, renderer))
+        layout.set_gid("clipped-note-layout")
+        ax.add_artist(layout)
+
+
+#: corners of the axes the clipped-note may stand in, in order of preference: (x, y, ha, va)
+_NOTE_CORNERS = ((0.995, 0.01, "right", "bottom"), (0.005, 0.01, "left", "bottom"),
+                 (0.995, 0.99, "right", "top"), (0.005, 0.99, "left", "top"))
+
+
+def _clear_corner(ax, note, renderer):
+    """Move the text ``note`` to the first corner of :data:`_NOTE_CORNERS` where its box (grown by
+    a third of its height) meets no line drawn in ``ax`` (curves and carets, each marker as its
+    square); the lower right corner where none is clear. Measured in axes fractions with
+    ``renderer`` (the one drawing: :func:`~._labels.draw_time_layout`)."""
+    from matplotlib.path import Path
+
+    from ._labels import set_if_changed
+
+    to_axes = ax.transAxes.inverted()
+    paths = []
+    for line in ax.get_lines():
+        xy = to_axes.transform(line.get_transform().transform(np.column_stack(line.get_data()).astype(float)))
+        finite = np.all(np.isfinite(xy), axis=1)
+        for run in np.split(np.arange(len(xy)), np.flatnonzero(np.diff(finite.astype(int))) + 1):
+            if finite[run[0]] and len(run) > 1:
+                paths.append(Path(xy[run]))
+        if line.get_marker() not in ("None", "", " ", None):     # each marker as its square
+            half = renderer.points_to_pixels(line.get_markersize()) / 2 / np.array([ax.bbox.width, ax.bbox.height])
+            for point in xy[finite]:
+                low, high = point - half, point + half
+                paths.append(Path([low, (high[0], low[1]), high, (low[0], high[1]), low]))
+    for x, y, ha, va in _NOTE_CORNERS + _NOTE_CORNERS[:1]:       # none clear: the first
+        set_if_changed(note, position=(x, y), horizontalalignment=ha, verticalalignment=va)
+        box = note.get_window_extent(renderer).transformed(to_axes)
+        grow = box.height / 3
+        box = box.from_extents(box.x0 - grow, box.y0 - grow, box.x1 + grow, box.y1 + grow)
+        if not any(path.intersects_bbox(box, filled=False) for path in paths):
+            return

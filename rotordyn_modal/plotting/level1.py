@@ -60,7 +60,8 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
             label=f"at Qa = {result.qa * scale:.4g} {unit}: log dec {result.log_decrement_at_qa:.3g}")
     if np.isfinite(result.q0):
         colour = "tab:red" if not result.passes_ratio else "tab:green"
-        ax.plot([result.q0 / result.qa], [0.0], "D", color=colour, markersize=8, zorder=5,
+        # not clipped: Q0 may lie on the axis' left edge (Q = 0), its diamond is drawn whole
+        ax.plot([result.q0 / result.qa], [0.0], "D", color=colour, markersize=8, zorder=5, clip_on=False,
                 label=f"Q0 = {result.q0 * scale:.4g} {unit} (Q0/Qa = {result.ratio:.3g})")
     _limits(ax, result)
     ax.set_xlabel("Applied cross-coupled stiffness Q / Qa [-]")

@@ -61,13 +61,13 @@ def plot_mode_shape(view, ax=None, phase: float = 0.0, orbits: bool = True, labe
     fig, ax, flat = _figure(ax, projections)
     # frame first and hold it: mplot3d's autoscaling can overflow to infinite limits when
     # collections arrive on a fresh 3D axes
-    _frame(ax, flat, view, units)
+    _frame(ax, flat, view, units, phase)
     ax.set_autoscale_on(False)
     _draw_static(ax, flat, view, orbits)
     _draw_displaced(ax, flat, view, phase)
     if labels:
         _label_arrows(ax, view, phase)
-    _frame(ax, flat, view, units)
+    _frame(ax, flat, view, units, phase)
     ax.set_title(title or _title(view), fontsize="medium")
     _legend(ax, view, orbits)
     return fig
@@ -386,6 +386,9 @@ def _facing(flat, axis):
 
 #: arrows' labels keep this far from the arrows, from each other and from the frame [points]
 _LABEL_PAD_POINTS = 3.0
+#: room [points] kept between two names side by side, more than a space's width: 'acc-fan-z' and
+#: 'probe-DE-x' 3 points apart (their white backgrounds less) read as one name (figs30b review)
+_LABEL_APART_POINTS = 7.0
 #: directions tried for an arrow's label from its free end, turned from the arrow's own [degrees]
 _LABEL_TURNS = (0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180)
 #: distances tried for an arrow's label beyond the pad [label heights]
@@ -448,6 +451,7 @@ class _ArrowLabels:
 
         ax = self.ax
         pad = _LABEL_PAD_POINTS * renderer.points_to_pixels(1.0)
+        gap = (_LABEL_APART_POINTS * renderer.points_to_pixels(1.0), pad)
         segments = self._pixels(_arrow_segments(self.view, self.phase))
         frame = ax.get_window_extent(renderer)
         inner = (frame.x0 + pad, frame.y0 + pad, frame.x1 - pad, frame.y1 - pad)
@@ -462,24 +466,27 @@ class _ArrowLabels:
         for k, ((attached, free), (w, h)) in enumerate(zip(ends, sizes)):      # beside the arrow, clear
             near = [b for b in _boxes_beyond(free, free - attached, w, h, pad)
                     if _distance_to_box(free, b) <= _BODY_REACH * h]
-            boxes[k] = first_free_box(near, placed, (pad, pad), inner, obstacles, allowed=clear[0])
+            boxes[k] = first_free_box(near, placed, gap, inner, obstacles, allowed=clear[0])
         spaces = None
         for k, ((attached, free), (w, h)) in enumerate(zip(ends, sizes)):      # in clear space, with a leader
             if boxes[k] is None:
                 spaces = spaces or self._clear_space(frame, pad, segments, edges, hulls, obstacles)
                 boxes[k], lines[k] = _leader_spot(spaces, free, free - attached, w, h, pad, placed, leaders,
-                                                  segments, inner)
+                                                  segments, inner, apart=gap[0])
         for k, ((attached, free), (w, h)) in enumerate(zip(ends, sizes)):      # no room: as before
             if boxes[k] is None:
-                boxes[k] = self._fallback(free, attached, w, h, pad, placed, leaders, segments, inner,
+                boxes[k] = self._fallback(free, attached, w, h, gap, placed, leaders, segments, inner,
                                           obstacles, clear, crossings)
         for text, leader, box, line in zip(self.texts, self.leaders, boxes, lines):
             self._show(text, leader, box, line)
 
-    def _fallback(self, free, attached, w, h, pad, placed, leaders, segments, inner, obstacles, clear, crossings):
+    def _fallback(self, free, attached, w, h, gap, placed, leaders, segments, inner, obstacles, clear, crossings):
         """The box beside the arrow where no clear spot is, near or with a leader: the nearest clear
-        of the bodies' edges, else on the fewest of them, else clear of the arrows (and leaders)."""
+        of the bodies' edges, else on the fewest of them, else clear of the arrows (and leaders).
+        ``gap``: (across, up) [pixels] kept from the names ``placed``, ``gap[1]`` the pad."""
         from ._labels import crosses_any, first_free_box
+
+        pad = gap[1]
 
         def off_leaders(test):
             return lambda b: test(b) and not crosses_any(leaders, [_widened(b, pad)])
@@ -487,13 +494,13 @@ class _ArrowLabels:
         boxes = _boxes_beyond(free, free - attached, w, h, pad)
         near = [b for b in boxes if _distance_to_box(free, b) <= _BODY_REACH * h]
         for allowed in clear[1:-1]:
-            box = first_free_box(near, placed, (pad, pad), inner, obstacles, allowed=off_leaders(allowed))
+            box = first_free_box(near, placed, gap, inner, obstacles, allowed=off_leaders(allowed))
             if box is not None:
                 return box
-        box = first_free_box(near, placed, (pad, pad), inner, obstacles, allowed=off_leaders(clear[-1]),
+        box = first_free_box(near, placed, gap, inner, obstacles, allowed=off_leaders(clear[-1]),
                              cost=crossings)
         if box is None:
-            box = first_free_box(boxes, placed, (pad, pad), inner, obstacles, allowed=off_leaders(clear[-1]))
+            box = first_free_box(boxes, placed, gap, inner, obstacles, allowed=off_leaders(clear[-1]))
         if box is None:
             box = next((b for b in boxes if not _crosses_arrows(b, segments, pad)), boxes[0])
             placed.append(box)
@@ -591,13 +598,13 @@ def _leader_line(ax, arrow):
     return line
 
 
-def _leader_spot(spaces, free, direction, w, h, pad, placed, leaders, segments, inner):
+def _leader_spot(spaces, free, direction, w, h, pad, placed, leaders, segments, inner, apart=None):
     """A box ``w x h`` [pixels] for a name in clear space and its leader to the arrow's ``free``
     end: the nearest box (rings around ``free``, along ``direction`` first) that the first of
     ``spaces`` (:class:`_Occupied`) that has one leaves free, inside ``inner``, clear of the names
     ``placed``, whose leader crosses no name, preferably (up to :data:`_LEADER_DETOUR` name heights
-    farther) no other leader and no arrow. The box and the leader are added to ``placed``,
-    ``leaders`` and every space.
+    farther) no other leader and no arrow, ``apart`` [pixels] across from the names placed
+    (default ``pad``). The box and the leader are added to ``placed``, ``leaders`` and every space.
 
     Returns
     -------
@@ -612,7 +619,8 @@ def _leader_spot(spaces, free, direction, w, h, pad, placed, leaders, segments, 
     if placed:
         other = np.asarray(placed, float)[None, :, :]
         b = boxes[:, None, :]
-        ok &= ~np.any((b[..., 0] < other[..., 2] + pad) & (other[..., 0] < b[..., 2] + pad)
+        apart = pad if apart is None else apart        # across, between names side by side
+        ok &= ~np.any((b[..., 0] < other[..., 2] + apart) & (other[..., 0] < b[..., 2] + apart)
                       & (b[..., 1] < other[..., 3] + pad) & (other[..., 1] < b[..., 3] + pad), axis=1)
     others = [s for s in segments if np.hypot(*(s[1] - free)) > 0.5 and np.hypot(*(s[0] - free)) > 0.5]
     for space in spaces:
@@ -881,9 +889,12 @@ def _label_arrows(ax, view, phase):
     ax.add_artist(layout)
 
 
-def _frame(ax, flat, view, units="si"):
-    points = np.concatenate([b.vertices for b in view.outline.bodies]
-                            + [np.array([s.point_b for s in view.outline.springs]).reshape(-1, 3)])
+def _frame(ax, flat, view, units="si", phase=None):
+    """Limits, labels and ticks of the 3D axes ``ax`` and its projections ``flat``: one cube
+    around the machine at rest and, given ``phase`` [rad], its displaced drawing at that phase
+    (a displaced body beyond the outline is drawn whole, not cut at the frame's edge), with a
+    margin of 0.15 of the outline's size."""
+    points = np.concatenate(_frame_points(view, phase))
     low, high = points.min(axis=0), points.max(axis=0)
     centre, half = 0.5 * (low + high), 0.5 * (high - low).max() + 0.15 * view.outline.size
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre):
@@ -907,6 +918,18 @@ def _frame(ax, flat, view, units="si"):
         panel.set_title(name, fontsize="small")
         panel.tick_params(labelsize="x-small")
         panel.grid(True, alpha=0.3)
+
+
+def _frame_points(view, phase=None):
+    """Points [m] the frame must hold, a list of (n, 3) arrays: the bodies and springs at rest
+    and, given ``phase`` [rad], the displaced bodies, brackets and springs."""
+    points = [b.vertices for b in view.outline.bodies]
+    points.append(np.array([s.point_b for s in view.outline.springs]).reshape(-1, 3))
+    if phase is not None:
+        points += list(view.at_phase(phase))
+        points += [np.asarray(b, float).reshape(-1, 3) for b in view.brackets_at_phase(phase)]
+        points += [np.asarray(pair, float).reshape(-1, 3) for pair in view.springs_at_phase(phase)]
+    return [p for p in points if len(p)]
 
 
 def _unit_ticks(axis, factor):

@@ -938,7 +938,7 @@ class _CampbellLabels:
             start = nearest_in(box, anchor)
             return free(box) and not crosses_any([(start, anchor)], others) \
                 and not crosses_segments(start, anchor, self.leader_lines) \
-                and not crosses_any([(start, anchor)], markers)
+                and not crosses_any([(start, self._short_of(start, anchor, clear_px))], markers)
 
         def cost(box):
             start = nearest_in(box, anchor)

@@ -47,6 +47,8 @@ _SHARED_COLOUR = "0.15"
 #: size of a critical speed's circle [points]; circles whose centres lie within each other's
 #: circle (closer than half this) read as one double circle and share one label
 _MARKER_POINTS = 6
+#: a leader's end lies at least this many times as far from any other circle's centre as from its own
+_NEAREST_OWN = 1.25
 #: where no box beside a critical speed's marker has a leader crossing no mode's curve, boxes
 #: across it, this much of their width left of it (:func:`._labels.boxes_around`)
 _STRADDLE = (0.1, 0.3, 0.5, 0.7, 0.9)
@@ -934,13 +936,18 @@ class _CampbellLabels:
                                       / to_px).tolist()]
         others = list(placed)
 
-        def leader_clear(box):
+        def leader_clear(box, drawn=True):
             # nor through another marker: its end would touch that circle as much as its own
-            # (counter_rotating's '11/21.9' reached mode 1's circles through mode 2's)
+            # (counter_rotating's '11/21.9' reached mode 1's circles through mode 2's). The leader
+            # as drawn, stopping short of its own circle: to the centre it ran through the squares
+            # of circles beside it, 5 to 9 pixels away, and unstable_cross_coupled --freq-max 150
+            # labelled none of its 10 critical speeds under 140 Hz of empty axes. A leader
+            # across curves (the last resort) only where it would not pass a neighbour that close
             start = nearest_in(box, anchor)
+            end = self._short_of(start, anchor, clear_px) if drawn else anchor
             return free(box) and not crosses_any([(start, anchor)], others) \
                 and not crosses_segments(start, anchor, self.leader_lines) \
-                and not crosses_any([(start, anchor)], markers)
+                and not crosses_any([(start, end)], markers) and (not drawn or self._ends_nearest(end, markers, clear_px))
 
         def cost(box):
             start = nearest_in(box, anchor)
@@ -979,8 +986,8 @@ class _CampbellLabels:
                                  frame, obstacles=markers, allowed=lambda b: uncrossed(b) and self.curves.free(b, circle),
                                  cost=distance, bound=distance)
         if box is None:
-            box = first_free_box(grid, placed, gap, frame, obstacles=markers, allowed=leader_clear, cost=cost,
-                                 bound=distance)
+            box = first_free_box(grid, placed, gap, frame, obstacles=markers,
+                                 allowed=lambda b: leader_clear(b, drawn=False), cost=cost, bound=distance)
         if box is None:
             return None, None
         if cost(box) > max(_MOST_COST * h / self.to_v, distance(box)):
@@ -989,6 +996,18 @@ class _CampbellLabels:
         start = nearest_in(box, anchor)
         self.leader_lines.append((start, anchor))
         return box, (start, self._short_of(start, anchor, clear_px))
+
+    def _ends_nearest(self, end, markers, clear_px):
+        """Whether a leader's drawn ``end`` (axes fraction; ``clear_px`` [pixels] from its own circle's
+        centre) lies :data:`_NEAREST_OWN` times as far from the centre of every other marker
+        (``markers``: boxes, axes fraction): else it reads as pointing at that circle
+        (counter_rotating's '1663' ended at the join of the 1663 and 1700 rpm circles)."""
+        if not len(markers):
+            return True
+        boxes = np.asarray(markers, float).reshape(-1, 4)
+        du = ((boxes[:, 0] + boxes[:, 2]) / 2 - end[0]) / self.to_u
+        dv = ((boxes[:, 1] + boxes[:, 3]) / 2 - end[1]) / self.to_v
+        return bool(np.all(np.hypot(du, dv) >= _NEAREST_OWN * clear_px))
 
     def _short_of(self, start, centre, clear_px):
         """The end (axes fraction) of a leader line from ``start`` to ``centre`` (axes fraction)

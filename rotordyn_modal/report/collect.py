@@ -11,7 +11,9 @@ stations), ``level1`` (API 617 Level I stability), ``iso`` (ISO 20816-3 zones).
 
 from __future__ import annotations
 
+import functools
 import hashlib
+import io
 import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -411,31 +413,83 @@ def _api_case_ratios(model) -> list:
 
 #: the name of the estimate's part (``"page"``) that is no section: the page made of the results
 PAGE_PART = "Figures and page"
-#: the page (:func:`.render.render_html`: each figure drawn, laid out and encoded as a PNG) [CPU s
-#: on the machine it was measured on, work of Python, not of LAPACK]: by section, a part of its
-#: own and a part per coordinate (Campbell diagram, mode shapes), per bearing (the UCS map: its
-#: curves) or per sensor (the unbalance response's figure). Measured (``/tmp/est27r/meas.py``) on
-#: the gear chains of 1, 6, 10 and 20 rotors (10, 30, 46 and 86 coordinates, 2 bearings a
-#: rotor, 2 sensors): Campbell 0.7, 8.1, 5.1, 12.3 s; mode shapes 0.16, 1.7, 2.8, 4.7 s; UCS map
-#: 0.54, 2.5, 5.0, 10.2 s; unbalance 0.8, 2.2, 1.4, 2.1 s; the page 2.1, 13.3, 14.2, 29.3 s
-#: against 1.5, 6.3 and 45.7 s of ``collect`` at 6, 10 and 20 rotors
-#: (the static loads' shafts and Level I's figures not measured: a guess of 1 and 2 s)
-RENDER_SECONDS = {"campbell": (0.0, 0.15), "modes": (0.0, 0.055), "ucs": (0.0, 0.26), "unbalance": (0.3, 0.5),
-                  "static": (1.0, 0.0), "level1": (2.0, 0.0)}
+#: the page (:func:`.render.render_html`: each figure drawn, laid out and encoded as a PNG), work of
+#: Python and matplotlib, not of LAPACK, counted in reference drawings
+#: (:func:`reference_drawing_seconds`, timed on the machine that runs the report): by section, a
+#: part of its own and a part per unit of its size (:func:`_render_sizes`). Measured by
+#: ``benchmarks/report_page_cost.py`` (0.13-0.15 s a reference drawing there) on the gear chains
+#: of 1, 3, 6, 10 and 20 rotors (10 to 86 coordinates, 6 to 1,889 crossings, two sensors) and on
+#: four examples (journal_rotor, compressor_rotor, compressor_on_journals,
+#: flexible_pump_on_mounts): the Campbell diagram 2.2, 20, 71, 31, 82 drawings (its labels'
+#: placement: 0.35 a crossing up to the 200 the figure labels) and 1.7-3.5 on the examples; the
+#: rigid machines' mode shapes (a bar panel of every coordinate a mode) 1.0, 6.1, 11.8, 16.3, 29.4,
+#: the shaft lines of flexible rotors 3.5-4.0; the UCS map 5.5-12.4; the unbalance figure 5.2-18.8
+#: at two sensors, 12.1-22.2 at five; the static loads' shafts 3.2-4.3; Level I 1.6-1.8
+RENDER_DRAWINGS = {"campbell": (1.5, 0.35), "modes": (0.0, 0.34), "shaft_modes": (4.0, 0.0), "ucs": (8.0, 0.0),
+                   "unbalance": (2.0, 3.0), "static": (4.0, 0.0), "level1": (2.0, 0.0)}
+#: a reference drawing's CPU seconds taken without timing it (the pessimistic bound): twice the
+#: test machine's
+UNTIMED_DRAWING_SECONDS = 0.3
 
 
-def _render_seconds(model, inputs) -> tuple:
+def reference_drawing_seconds() -> float:
+    """CPU seconds [s] of one reference drawing on this machine: a 6 x 4 in figure of eight lines
+    of 200 points with labels, legend and grid, laid out (constrained) and encoded as a 110 dpi PNG
+    as the report's figures are; the shortest of ``_cost._REPEATS`` timings, made once a process.
+    The unit of :data:`RENDER_DRAWINGS`: a machine that draws twice as fast makes its page twice
+    as fast, which the fixed seconds of one machine did not follow."""
+    return _timed_drawing()
+
+
+@functools.lru_cache(maxsize=1)
+def _timed_drawing() -> float:
+    from ..analysis import _cost
+
+    _reference_drawing()                                          # fonts and the backend loaded
+    return max(_cost.shortest_cpu(_reference_drawing), 1e-3)
+
+
+def _reference_drawing() -> None:
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(layout="constrained", figsize=(6.0, 4.0))
+    x = np.linspace(0.0, 1.0, 200)
+    for k in range(8):
+        ax.plot(x, np.sin(3.0 * (k + 1) * x) + k, label=f"line {k}")
+    ax.set_xlabel("speed [rpm]")
+    ax.set_ylabel("frequency [Hz]")
+    ax.legend(fontsize=7)
+    ax.grid(True)
+    fig.set_dpi(110)
+    fig.draw_without_rendering()
+    fig.set_layout_engine("none")
+    fig.savefig(io.BytesIO(), format="png", dpi=110)
+    plt.close(fig)
+
+
+def _render_sizes(model, crossings: int) -> dict:
+    """Each section's size for :data:`RENDER_DRAWINGS`: the Campbell diagram's labelled critical
+    speeds (``crossings`` expected, at most the figure's labels), the coordinates of a rigid
+    machine's mode shapes (none for shaft lines), the unbalance figure's sensors."""
+    from ..plotting.campbell import _MAX_CRITICAL_LABELS
+
+    return {"campbell": min(int(crossings), _MAX_CRITICAL_LABELS), "modes": model.dofs.n, "shaft_modes": 0,
+            "ucs": 0, "unbalance": len(model.sensors), "static": 0, "level1": 0}
+
+
+def _render_seconds(model, inputs, crossings: int, drawing: float) -> tuple:
     """``(CPU seconds [s], figures)`` of the page of ``inputs.standard``'s sections on ``model``
-    (:data:`RENDER_SECONDS`; the shafts' figure of the static loads where a rotor is flexible,
+    (:data:`RENDER_DRAWINGS` of ``drawing`` [s] each; ``crossings`` the Campbell diagram's
+    expected critical speeds; the shafts' figure of the static loads where a rotor is flexible,
     the UCS map where there are bearings, the unbalance figure where there are sensors)."""
-    sections = STANDARDS[inputs.standard]
-    sizes = {"campbell": model.dofs.n, "modes": model.dofs.n, "ucs": len(model.bearings),
-             "unbalance": len(model.sensors), "static": 0, "level1": 0}
+    flexible = any(r.flexible is not None for r in model.rotors)
     drawn = {"campbell": True, "modes": True, "ucs": bool(model.bearings), "unbalance": bool(model.sensors),
-             "static": any(r.flexible is not None for r in model.rotors), "level1": inputs.level1 is not None}
-    shown = [s for s in sections if s in RENDER_SECONDS and drawn[s]]
-    seconds = sum(RENDER_SECONDS[s][0] + RENDER_SECONDS[s][1] * sizes[s] for s in shown)
-    return float(seconds), len(shown)
+             "static": flexible, "level1": inputs.level1 is not None}
+    shown = [s for s in STANDARDS[inputs.standard] if s in drawn and drawn[s]]
+    sizes = _render_sizes(model, crossings)
+    kinds = ["shaft_modes" if s == "modes" and flexible else s for s in shown]
+    drawings = sum(RENDER_DRAWINGS[k][0] + RENDER_DRAWINGS[k][1] * sizes[k] for k in kinds)
+    return float(drawings * drawing), len(shown)
 
 
 #: the static loads (one solve of the stiffness at the MCS, the shafts' stresses), as a share of
@@ -709,9 +763,10 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
       a value of Q).
 
     Counted in CPU seconds measured on this package's test machine, not in eigen-solutions (work
-    of Python): each unbalance case's set-up and the checks' searches (:func:`_case_seconds`),
-    and the page the ``report`` command makes of the results, its figures drawn
-    (:func:`_render_seconds`, the part ``"page"``).
+    of Python): each unbalance case's set-up and the checks' searches (:func:`_case_seconds`).
+    Counted in reference drawings timed here (:func:`reference_drawing_seconds`): the page the
+    ``report`` command makes of the results, its figures drawn (:func:`_render_seconds`, the part
+    ``"page"``).
 
     Parameters
     ----------
@@ -749,7 +804,8 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
                      + (sweep_solutions(grid) if level1 else 0))
         return (_work._quick_bound(model, speeds, (1,), True, True, len(speeds))
                 + solutions * _cost._PESSIMISTIC * float(n_states) ** 3
-                + 2 * (_render_seconds(model, inputs)[0] + _case_seconds(model, cases)))
+                + 2 * (_render_seconds(model, inputs, crossings, UNTIMED_DRAWING_SECONDS)[0]
+                       + _case_seconds(model, cases)))
     campbell = _report_numbers(_work.estimate(model, speeds, (1,), critical=True, numbers=True))
     eig = _work.eig_seconds(campbell.n_states)
     round_off = ROUND_OFF_SECONDS * campbell.crossings * float(campbell.n_states) ** 2
@@ -783,7 +839,7 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     if level1:
         count = sweep_size(model, inputs.mcs, level1["stations"], level1["qa"], shares=level1.get("shares"))
         parts.append(("level1", (sweep_solutions(count) + LEVEL1_FOLLOWING * count) * eig, f"{count:,} values of Q"))
-    page, figures = _render_seconds(model, inputs)
+    page, figures = _render_seconds(model, inputs, campbell.crossings, reference_drawing_seconds())
     parts.append(("page", page, f"{figures} figure sections drawn"))
     return ReportWork(campbell.n_dof, campbell.n_states, tuple(parts))
 

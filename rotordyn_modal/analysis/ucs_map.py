@@ -241,7 +241,7 @@ def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
     roots = parts.roots(grid)
     mine = np.searchsorted(grid, stiffness)
     found = _lowest_forward(_Roots(*(x[mine] for x in roots)), modes)
-    followed = _follow(parts, roots, mine, modes, _following_order(parts, roots, grid, modes))
+    followed = _follow(parts, roots, grid, mine, modes, _following_order(parts, roots, grid, modes))
     curves = tuple(_bearing_curve(model, b, speeds, found) for b in chosen)
     crossings = _constant_crossings(curves, grid, followed) + _curve_crossings_all(parts, curves, grid, followed)
     return UcsMap(stiffness=stiffness, speeds=found, bearings=tuple(b.name for b in chosen), curves=curves,
@@ -721,7 +721,7 @@ class _Followed(NamedTuple):
     names: tuple
 
 
-def _follow(parts, roots, mine, count, order) -> _Followed:
+def _follow(parts, roots, grid, mine, count, order) -> _Followed:
     """Keep, of the roots followed over the grid (``order`` (G, m): label -> root, from
     :func:`_following_order`), the modes that are among the ``count`` lowest forward critical
     speeds at some of the user's stiffness values (rows ``mine`` of the grid; a speed equal to
@@ -737,7 +737,7 @@ def _follow(parts, roots, mine, count, order) -> _Followed:
     present = forward[mine][:, shown]
     first = present.argmax(axis=0)
     chosen = np.nonzero(shown)[0][np.lexsort((speeds[mine][first, shown], first))]
-    names = _mode_names(parts.model, roots.shapes[rows, order[:, chosen]], forward[:, chosen])
+    names = _mode_names(parts, grid, roots.shapes[rows, order[:, chosen]], forward[:, chosen])
     return _Followed(order[:, chosen], speeds[:, chosen], weighted[rows, order[:, chosen]], names)
 
 
@@ -900,22 +900,54 @@ def _body_energies(model, shapes) -> tuple:
     return names, np.stack([along, translation - along, rotation - roll, roll], axis=-1)
 
 
-def _mode_names(model, shapes, present) -> tuple:
-    """A short name of each followed mode (G, L, n) from where it is on the map (``present``
-    (G, L)): the body with the most kinetic energy and its motion that carries the most of it
-    (a rotor's 'axial', 'cylindrical', 'conical' or 'torsional', the stator's 'axial',
-    'lateral', 'rocking' or 'roll'); the name it has at most of its points."""
+def _mode_names(parts, grid, shapes, present) -> tuple:
+    """A short name of each followed mode from its shapes (G, L, n) at the grid's stiffness
+    values (G,) [N/m] where it is on the map (``present`` (G, L)): its name at each point
+    (:func:`_point_names`) at the curve's two ends, ``'A -> B'`` where they differ (a rigid-body
+    mode on soft bearings turning into a bending mode on stiff ones, the rotor's name then in
+    both). A name by most points hid that change: a curve named 'pump conical' ended as the
+    shaft's bending mode."""
+    words = _point_names(parts, grid, shapes)
+    out = []
+    for j in range(words.shape[1]):
+        here = words[present[:, j], j]
+        if not len(here):
+            out.append("")
+        else:
+            out.append(str(here[0]) if here[0] == here[-1] else f"{here[0]} -> {here[-1]}")
+    return tuple(out)
+
+
+def _point_names(parts, grid, shapes) -> np.ndarray:
+    """Each shape's name (G, L) at the grid's stiffness values (G,) [N/m]: the body with the most
+    kinetic energy and its motion that carries the most of it (a rotor's 'axial',
+    'cylindrical', 'conical' or 'torsional', the stator's 'axial', 'lateral', 'rocking' or
+    'roll'); a flexible rotor's motion is 'bending' where its shafts store more than
+    ``modal.BENDING_FRACTION`` of the shape's strain energy at that stiffness."""
+    from ..assembly import shaft_stiffness
+    from .modal import BENDING_FRACTION
+
+    model = parts.model
     names, energies = _body_energies(model, shapes)
     body = np.argmax(energies.sum(axis=-1), axis=-1)                                      # (G, L)
     motion = np.take_along_axis(energies, body[..., None, None], axis=-2)[..., 0, :].argmax(axis=-1)
     kinds = np.array([[f"{name} {word}" for word in (_STATOR_MOTIONS if name == "stator" else _ROTOR_MOTIONS)]
                       for name in names])
     words = kinds[body, motion]
-    out = []
-    for j in range(words.shape[1]):
-        values, counts = np.unique(words[present[:, j], j], return_counts=True)
-        out.append(str(values[np.argmax(counts)]) if len(values) else "")
-    return tuple(out)
+    flexible = np.array([name != "stator" and model.rotor(name).flexible is not None for name in names])
+    if not flexible.any():
+        return words
+    strain = _strain(shapes, shaft_stiffness(model))
+    total = _strain(shapes, parts.rest) + np.asarray(grid, dtype=float)[:, None] * _strain(shapes, parts.unit)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        bent = flexible[body] & (strain > BENDING_FRACTION * total)
+    bending = np.array([f"{name} bending" for name in names])
+    return np.where(bent, bending[body], words)
+
+
+def _strain(shapes, K):
+    """``Re(phi^H K phi)`` (G, L) of shapes (G, L, n), twice the strain energy."""
+    return np.einsum("gln,gln->gl", shapes.conj(), shapes @ K.T).real
 
 
 def _constant_values(chosen) -> np.ndarray:

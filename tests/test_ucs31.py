@@ -50,21 +50,7 @@ def test_one_ulp_beside_the_bearings_own_stiffness_keeps_the_modes(pump, directi
     _assert_same_map(rdm.ucs_map(pump, grid), rdm.ucs_map(pump, moved))
 
 
-def test_a_coarse_maps_modes_are_those_of_a_fine_map(pump):
-    """Each mode of a map of 5 values (a decade apart) is a mode of a map of 41 values at those
-    5 values: the modes are followed, not decided by the grid's spacing."""
-    coarse = rdm.ucs_map(pump, np.geomspace(1e5, 1e9, 5))
-    fine = rdm.ucs_map(pump, np.geomspace(1e5, 1e9, 41))
-    rows = [int(np.argmin(np.abs(np.log(fine.stiffness / k)))) for k in coarse.stiffness]
-    assert np.allclose(fine.stiffness[rows], coarse.stiffness, rtol=1e-12, atol=0)
-    for j, name in enumerate(coarse.mode_names):
-        column = coarse.mode_speeds[:, j]
-        assert any(np.array_equal(np.isnan(column), np.isnan(f))
-                   and np.allclose(column, f, rtol=1e-9, equal_nan=True)
-                   for f in fine.mode_speeds[rows].T), (j + 1, name, column)
-
-
-@settings(max_examples=6, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=10, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(st.integers(3, 6), st.floats(4.0, 6.5), st.floats(8.2, 10.0), st.booleans(),
        st.lists(st.integers(-3, 3), min_size=7, max_size=7))
 def test_random_coarse_grids_moved_by_a_few_ulps_keep_their_modes(pump, count, low, high, own, ulps):

@@ -41,6 +41,7 @@ from ..linear_system import checked_mass_inverse
 from ..model._table import visible_names
 from ..model.geometry import skew
 from . import _arguments, _batches, _eigensolve, _vectors, _whirl
+from .tracking import track_modes
 
 __all__ = ["UcsMap", "BearingCurve", "Crossing", "ucs_map", "forward_critical_speeds"]
 
@@ -241,7 +242,7 @@ def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
     roots = parts.roots(grid)
     mine = np.searchsorted(grid, stiffness)
     found = _lowest_forward(_Roots(*(x[mine] for x in roots)), modes)
-    followed = _follow(parts, roots, grid, mine, modes, _following_order(parts, roots, grid, modes))
+    followed = _follow(parts, roots, grid, mine, modes, _following_order(parts, roots, grid))
     curves = tuple(_bearing_curve(model, b, speeds, found) for b in chosen)
     crossings = _constant_crossings(curves, grid, followed) + _curve_crossings_all(parts, curves, grid, followed)
     return UcsMap(stiffness=stiffness, speeds=found, bearings=tuple(b.name for b in chosen), curves=curves,
@@ -313,14 +314,12 @@ class _Pencil:
         self.forms = _whirl.whirl_forms(model)
         self.rest, self.unit = _split_stiffness(model, chosen)
 
-    def roots(self, stiffness, polished=True) -> "_Roots":
-        """:class:`_Roots` for the stiffness values (K,) [N/m] (not ``polished``: as the solve
-        gives them, for their shapes)."""
+    def roots(self, stiffness) -> "_Roots":
+        """:class:`_Roots` for the stiffness values (K,) [N/m]."""
         stiffness = np.asarray(stiffness, dtype=float)
         K = self.rest + stiffness[:, None, None] * self.unit
-        exact = (self.rest, self.unit, stiffness, self.polished) if self.polished and polished else None
         return _synchronous_roots(self.M, self.G, K, self.forms, probe=_free_probe([self.rest, self.unit]),
-                                  exact=exact)
+                                  exact=(self.rest, self.unit, stiffness, self.polished) if self.polished else None)
 
     def weighted(self, shapes) -> np.ndarray:
         """Mass-weighted unit shapes (..., m, n) for the MAC."""
@@ -744,50 +743,28 @@ def _follow(parts, roots, grid, mine, count, order) -> _Followed:
 #: two forward critical speeds closer than this (relative) are one rank: the mode counted among
 #: the lowest whichever round-off puts first
 _SAME_SPEED = 1e-9
-#: stiffness values closer than this (relative) are one point of the mode following: a step of
-#: one ulp (the user's 1e8 N/m beside a bearing's own) gave the next step's extrapolation no trend
+#: stiffness values closer than this (relative) are one point of the mode following
 _SAME_STIFFNESS = 1e-9
-#: the mode following steps at most this many times a decade ...
-_STEPS_PER_DECADE = 8
-#: ... and halves a step whose low roots do not each match one root of the next point with a
-#: MAC above ``_SURE_MAC``, or whose matches cross (:func:`_unsure_steps`), down to this [decades]:
-#: a veering narrower is followed as a crossing, by the modes' shapes
-_SMALLEST_STEP = 1 / 1024
-_SURE_MAC = 0.8
 
 
-def _following_order(parts, roots, grid, count) -> np.ndarray:
-    """Follow every root over the grid (G,) [N/m] by its shape: ``order`` (G, m), ``order[i,
-    label]`` the root of mode ``label`` at ``grid[i]``.
+def _following_order(parts, roots, grid) -> np.ndarray:
+    """Follow every root over the grid (G,) [N/m] by its shape (``tracking.track_modes``: the
+    MAC between neighbouring values, an optimal assignment with the trend of the signed
+    ``nu^-1/2`` where a step is ambiguous): ``order`` (G, m), ``order[i, label]`` the root of
+    mode ``label`` at ``grid[i]``.
 
-    The shapes change much over a decade of stiffness, and a grid of a few values per decade
-    left the following (``tracking.track_modes``: the MAC between neighbouring values, an
-    optimal assignment with an extrapolated frequency where it is ambiguous) to decide by
-    round-off (a 5-value map of examples/flexible_pump_on_mounts.toml showed 9 modes, 8 with
-    one value moved by one ulp). The modes are followed instead over points inserted between
-    the grid's values (:func:`_following_points`, unpolished roots: only their shapes and
-    order are used), where every low root continues in one; values closer than
-    ``_SAME_STIFFNESS`` are one point, the others' roots matched to it by their MAC."""
+    Values closer than ``_SAME_STIFFNESS`` are one point of the following, the others' roots
+    matched to its roots by their MAC (``scipy.optimize.linear_sum_assignment``): a step of one
+    ulp (the user's 1e8 N/m moved by one ulp beside the bearings' own 1e8, a point of the grid
+    too) gave the next step's extrapolation no trend, and a decade-wide step was decided
+    otherwise (a 5-value map of examples/flexible_pump_on_mounts.toml showed 9 modes, 8 with
+    1e8 moved by one ulp)."""
     keep, owner = _distinct(grid)
-    points, at, extra = _following_points(parts, _Roots(*(x[keep] for x in roots)), grid[keep], count)
-    order = _chained(parts.weighted(extra.shapes))[at]                                         # (R, m)
-    out = order[np.searchsorted(keep, owner)]
+    weighted = parts.weighted(roots.shapes)
+    order = track_modes(1j * roots.signed[keep], weighted[keep])[np.searchsorted(keep, owner)]   # (G, m)
     for i in np.nonzero(owner != np.arange(len(grid)))[0]:
-        reference = parts.weighted(roots.shapes[owner[i], out[i]])
-        out[i] = linear_sum_assignment(-_vectors.mac_matrix(reference, parts.weighted(roots.shapes[i])))[1]
-    return out
-
-
-def _chained(weighted) -> np.ndarray:
-    """``order`` (P, m): each root at the first point followed to the next points by its shape,
-    ``weighted`` (P, m, n): its best MAC where those are distinct, else the assignment of the
-    largest MAC sum (``scipy.optimize.linear_sum_assignment``)."""
-    order = np.empty(weighted.shape[:2], dtype=int)
-    order[0] = np.arange(weighted.shape[1])
-    for i in range(1, len(order)):
-        mac = _vectors.mac_matrix(weighted[i - 1][order[i - 1]], weighted[i])
-        best = mac.argmax(axis=-1)
-        order[i] = best if len(np.unique(best)) == len(best) else linear_sum_assignment(-mac)[1]
+        reference = weighted[owner[i]][order[i]]
+        order[i] = linear_sum_assignment(-_vectors.mac_matrix(reference, weighted[i]))[1]
     return order
 
 
@@ -801,65 +778,6 @@ def _distinct(grid):
             keep.append(i)
         owner[i] = keep[-1]
     return np.array(keep, dtype=int), owner
-
-
-def _following_points(parts, roots, values, count):
-    """The points over which the modes are followed: ``values`` (R,) [N/m], at most
-    ``1 / _STEPS_PER_DECADE`` decade apart, each step halved while some of its low roots (the
-    ``2 count + 4`` lowest at either end) lacks a sure match (:func:`_unsure_steps`).
-
-    Returns
-    -------
-    points : ndarray, shape (P,) [N/m], increasing
-    at : ndarray of int, shape (R,)
-        Where ``values`` are among them.
-    roots : _Roots, P points
-        ``roots`` (R points, those of ``values``) and the inserted points' own.
-    """
-    logs = np.log10(values)
-    pieces = np.maximum(np.ceil(np.diff(logs) * _STEPS_PER_DECADE - 1e-9).astype(int), 1)
-    inserted = np.concatenate([a + (b - a) * np.arange(1, p) / p for a, b, p in zip(logs[:-1], logs[1:], pieces)]
-                              + [np.zeros(0)])
-    points, all_roots, given = _merged(parts, logs, roots, inserted, np.ones(len(logs), dtype=bool))
-    while True:
-        unsure = _unsure_steps(parts, all_roots, 2 * count + 4) & (np.diff(points) > _SMALLEST_STEP)
-        if not unsure.any():
-            break
-        middle = 0.5 * (points[:-1] + points[1:])[unsure]
-        points, all_roots, given = _merged(parts, points, all_roots, middle, given)
-    return 10.0 ** points, np.nonzero(given)[0], all_roots
-
-
-def _merged(parts, points, roots, inserted, given):
-    """``points`` (log10 [N/m]) with their roots and ``inserted`` ones' (solved, unpolished),
-    in increasing order; ``given`` marks the original values (their exact values kept)."""
-    if not len(inserted):
-        return points, roots, given
-    extra = parts.roots(10.0 ** inserted, polished=False)
-    both = np.r_[points, inserted]
-    order = np.argsort(both, kind="stable")
-    merged = _Roots(*(np.concatenate([a, b])[order] for a, b in zip(roots, extra)))
-    return both[order], merged, np.r_[given, np.zeros(len(inserted), dtype=bool)][order]
-
-
-def _unsure_steps(parts, roots, low):
-    """(P - 1,) bool: steps where one of the ``low`` lowest roots (by |Omega|) at either end has
-    no match above ``_SURE_MAC`` at the other or shares its best match with another of them, or
-    where two of them and their matches lie in opposite orders (their curves cross within the
-    step: a crossing, or a veering the step jumps, the roots exchanging their shapes)."""
-    weighted = parts.weighted(roots.shapes)
-    size = np.argsort(np.abs(roots.signed), axis=-1)[:, :low]            # |signed| = |nu|^-1/2 [rad/s]
-    out = np.zeros(len(weighted) - 1, dtype=bool)
-    for i in range(len(out)):
-        for a, b, rows in ((i, i + 1, size[i]), (i + 1, i, size[i + 1])):
-            mac = _vectors.mac_matrix(weighted[a][rows], weighted[b])
-            best = mac.argmax(axis=-1)
-            here, there = roots.signed[a][rows], roots.signed[b][best]
-            crossed = np.sign(here[:, None] - here[None, :]) * np.sign(there[:, None] - there[None, :]) < 0
-            if (mac.max(axis=-1) <= _SURE_MAC).any() or len(np.unique(best)) < len(best) or crossed.any():
-                out[i] = True
-                break
-    return out
 
 
 #: a body's four motions, in the order of :func:`_body_energies`, as a rotor's and the stator's words

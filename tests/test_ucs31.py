@@ -104,3 +104,59 @@ def test_a_mode_of_one_character_keeps_one_name(tmp_path):
     model = rdm.load_model(_uniform_shaft(tmp_path / "shaft.toml", 1.0, 0.05))
     result = rdm.ucs_map(model, np.geomspace(1e2, 1e4, 5), modes=2)
     assert result.mode_names[:2] == ("s cylindrical", "s conical")
+
+
+def _segments_cross(p, q, a, b):
+    """Whether segment p-q crosses segment a-b (2-D, strictly)."""
+    def side(o, s, t):
+        return (s[0] - o[0]) * (t[1] - o[1]) - (s[1] - o[1]) * (t[0] - o[0])
+    return side(p, q, a) * side(p, q, b) < 0 and side(a, b, p) * side(a, b, q) < 0
+
+
+def test_the_fans_crossing_labels_sit_near_their_circles_and_lead_across_no_curve():
+    """fan_on_bearings' map as the CLI draws it (its documented options), measured at the saved
+    150 dpi: every crossing label's leader (from its box to its point) is at most 30 points long
+    (the '3645' of three overlapping circles at 3e6 N/m stood 41 points away down the brown
+    curve), crosses no mode's curve outside the circles, and no two labels overlap."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.text import Annotation, Text
+
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    result = rdm.ucs_map(model, np.geomspace(1e5, 1e9, 41), bearings=["fan-DE", "fan-NDE"],
+                         operating=(1000 * math.pi / 30, 3000 * math.pi / 30))
+    fig = result.plot()
+    ax = fig.axes[0]
+    fig.set_dpi(150)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    points = 150 / 72
+    curves = [ax.transData.transform(np.column_stack(line.get_data())) for line in ax.get_lines()
+              if str(line.get_label())[:1].isdigit()]
+    circles = np.array([ax.transData.transform((c.stiffness, c.speed * 30 / math.pi)) for c in result.crossings])
+    labels = [t for t in ax.texts if isinstance(t, Annotation) and t.get_gid() != "ucs-end-name"
+              and t.get_text()[:1].isdigit() and len(t.get_text()) >= 3]
+    assert labels
+    boxes = []
+    for text in labels:
+        box = Text.get_window_extent(text, renderer)
+        end = ax.transData.transform(text.xy)
+        start = np.array([min(max(end[0], box.x0), box.x1), min(max(end[1], box.y0), box.y1)])
+        assert np.hypot(*(end - start)) <= 30 * points, (text.get_text(), np.hypot(*(end - start)) / points)
+        mine = circles[np.hypot(*(circles - end).T) < 12 * points]        # the circles it names, around its point
+        for curve in curves:
+            good = np.all(np.isfinite(curve), axis=1)
+            for a, b, ok in zip(curve[:-1], curve[1:], good[:-1] & good[1:]):
+                if not ok or not _segments_cross(start, end, a, b):
+                    continue
+                # where the leader meets the curve: within 3 points + 0.5 px of one of its circles
+                d = end - start
+                e = b - a
+                t = ((a[0] - start[0]) * e[1] - (a[1] - start[1]) * e[0]) / (d[0] * e[1] - d[1] * e[0])
+                meet = start + t * d
+                assert np.hypot(*(mine - meet).T).min() <= 3 * points + 0.5, text.get_text()
+        boxes.append(box)
+    for i in range(len(boxes)):
+        for j in range(i):
+            assert not boxes[i].overlaps(boxes[j]), (labels[i].get_text(), labels[j].get_text())

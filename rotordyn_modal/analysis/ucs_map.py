@@ -128,7 +128,8 @@ class UcsMap:
         the stiffness where they first appear and their speed there. Curves may cross.
     mode_names : tuple of str, (L,)
         Each followed mode's body with the most kinetic energy and its motion ('pump conical',
-        'stator rocking'; see ``docs/level1_and_ucs.md``).
+        'stator rocking', a flexible rotor's 'pump bending'; see ``docs/level1_and_ucs.md``), at
+        the curve's two ends, 'A -> B' where they differ ('pump conical -> pump bending').
     """
 
     stiffness: np.ndarray

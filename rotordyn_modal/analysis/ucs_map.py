@@ -32,7 +32,7 @@ from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
-from scipy.optimize import brentq
+from scipy.optimize import brentq, linear_sum_assignment
 
 from ..assembly import bearing_motion, body_inertias, constant_stiffness_damping, gyroscopic_matrix, mass_matrix
 from ..elements.bearings import evaluate, table_left
@@ -128,7 +128,8 @@ class UcsMap:
         the stiffness where they first appear and their speed there. Curves may cross.
     mode_names : tuple of str, (L,)
         Each followed mode's body with the most kinetic energy and its motion ('pump conical',
-        'stator rocking'; see ``docs/level1_and_ucs.md``).
+        'stator rocking', a flexible rotor's 'pump bending'; see ``docs/level1_and_ucs.md``), at
+        the curve's two ends, 'A -> B' where they differ ('pump conical -> pump bending').
     """
 
     stiffness: np.ndarray
@@ -242,7 +243,7 @@ def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
     roots = parts.roots(grid)
     mine = np.searchsorted(grid, stiffness)
     found = _lowest_forward(_Roots(*(x[mine] for x in roots)), modes)
-    followed = _follow(parts, roots, mine, modes)
+    followed = _follow(parts, roots, grid, mine, modes, _following_order(parts, roots, grid))
     curves = tuple(_bearing_curve(model, b, speeds, found) for b in chosen)
     crossings = _constant_crossings(curves, grid, followed) + _curve_crossings_all(parts, curves, grid, followed)
     return UcsMap(stiffness=stiffness, speeds=found, bearings=tuple(b.name for b in chosen), curves=curves,
@@ -720,24 +721,64 @@ class _Followed(NamedTuple):
     names: tuple
 
 
-def _follow(parts, roots, mine, count) -> _Followed:
-    """Follow every root over the grid by its shape (``tracking.track_modes``: the MAC between
-    neighbouring stiffness values, an optimal assignment where it is ambiguous) and keep the
-    modes that are among the ``count`` lowest forward critical speeds at some of the user's
-    stiffness values (rows ``mine`` of the grid), numbered by where they first appear on the
-    map and their speed there."""
+def _follow(parts, roots, grid, mine, count, order) -> _Followed:
+    """Keep, of the roots followed over the grid (``order`` (G, m): label -> root, from
+    :func:`_following_order`), the modes that are among the ``count`` lowest forward critical
+    speeds at some of the user's stiffness values (rows ``mine`` of the grid; a speed equal to
+    the ``count``-th to :data:`_SAME_SPEED` counts too, so that a tie is not decided by
+    round-off), numbered by where they first appear on the map and their speed there."""
     weighted = parts.weighted(roots.shapes)
-    order = track_modes(1j * roots.signed, weighted)                   # (G, m): label -> root
     rows = np.arange(len(order))[:, None]
     forward = roots.forward[rows, order]
     speeds = np.where(forward, roots.omega[rows, order], np.nan)
-    rank = np.argsort(np.argsort(np.where(roots.forward, roots.omega, np.inf), axis=-1), axis=-1)
-    shown = (forward & (rank[rows, order] < count))[mine].any(axis=0)
+    lowest = _lowest_forward(roots, count)[:, -1:]                                     # (G, 1), nan where fewer
+    within = ~(roots.omega[rows, order] > lowest * (1 + _SAME_SPEED))                 # nan: fewer, all count
+    shown = (forward & within)[mine].any(axis=0)
     present = forward[mine][:, shown]
     first = present.argmax(axis=0)
     chosen = np.nonzero(shown)[0][np.lexsort((speeds[mine][first, shown], first))]
-    names = _mode_names(parts.model, roots.shapes[rows, order[:, chosen]], forward[:, chosen])
+    names = _mode_names(parts, grid, roots.shapes[rows, order[:, chosen]], forward[:, chosen])
     return _Followed(order[:, chosen], speeds[:, chosen], weighted[rows, order[:, chosen]], names)
+
+
+#: two forward critical speeds closer than this (relative) are one rank: the mode counted among
+#: the lowest whichever round-off puts first
+_SAME_SPEED = 1e-9
+#: stiffness values closer than this (relative) are one point of the mode following
+_SAME_STIFFNESS = 1e-9
+
+
+def _following_order(parts, roots, grid) -> np.ndarray:
+    """Follow every root over the grid (G,) [N/m] by its shape (``tracking.track_modes``: the
+    MAC between neighbouring values, an optimal assignment with the trend of the signed
+    ``nu^-1/2`` where a step is ambiguous): ``order`` (G, m), ``order[i, label]`` the root of
+    mode ``label`` at ``grid[i]``.
+
+    Values closer than ``_SAME_STIFFNESS`` are one point of the following, the others' roots
+    matched to its roots by their MAC (``scipy.optimize.linear_sum_assignment``): a step of one
+    ulp (the user's 1e8 N/m moved by one ulp beside the bearings' own 1e8, a point of the grid
+    too) gave the next step's extrapolation no trend, and a decade-wide step was decided
+    otherwise (a 5-value map of examples/flexible_pump_on_mounts.toml showed 9 modes, 8 with
+    1e8 moved by one ulp)."""
+    keep, owner = _distinct(grid)
+    weighted = parts.weighted(roots.shapes)
+    order = track_modes(1j * roots.signed[keep], weighted[keep])[np.searchsorted(keep, owner)]   # (G, m)
+    for i in np.nonzero(owner != np.arange(len(grid)))[0]:
+        reference = weighted[owner[i]][order[i]]
+        order[i] = linear_sum_assignment(-_vectors.mac_matrix(reference, weighted[i]))[1]
+    return order
+
+
+def _distinct(grid):
+    """(keep, owner): the grid's values (G,) increasing, kept where farther than
+    ``_SAME_STIFFNESS`` (relative) from the last kept one; ``owner[i]`` the kept value standing
+    for ``grid[i]``."""
+    keep, owner = [], np.empty(len(grid), dtype=int)
+    for i, value in enumerate(grid):
+        if not keep or value > grid[keep[-1]] * (1 + _SAME_STIFFNESS):
+            keep.append(i)
+        owner[i] = keep[-1]
+    return np.array(keep, dtype=int), owner
 
 
 #: a body's four motions, in the order of :func:`_body_energies`, as a rotor's and the stator's words
@@ -778,22 +819,54 @@ def _body_energies(model, shapes) -> tuple:
     return names, np.stack([along, translation - along, rotation - roll, roll], axis=-1)
 
 
-def _mode_names(model, shapes, present) -> tuple:
-    """A short name of each followed mode (G, L, n) from where it is on the map (``present``
-    (G, L)): the body with the most kinetic energy and its motion that carries the most of it
-    (a rotor's 'axial', 'cylindrical', 'conical' or 'torsional', the stator's 'axial',
-    'lateral', 'rocking' or 'roll'); the name it has at most of its points."""
+def _mode_names(parts, grid, shapes, present) -> tuple:
+    """A short name of each followed mode from its shapes (G, L, n) at the grid's stiffness
+    values (G,) [N/m] where it is on the map (``present`` (G, L)): its name at each point
+    (:func:`_point_names`) at the curve's two ends, ``'A -> B'`` where they differ (a rigid-body
+    mode on soft bearings turning into a bending mode on stiff ones, the rotor's name then in
+    both). A name by most points hid that change: a curve named 'pump conical' ended as the
+    shaft's bending mode."""
+    words = _point_names(parts, grid, shapes)
+    out = []
+    for j in range(words.shape[1]):
+        here = words[present[:, j], j]
+        if not len(here):
+            out.append("")
+        else:
+            out.append(str(here[0]) if here[0] == here[-1] else f"{here[0]} -> {here[-1]}")
+    return tuple(out)
+
+
+def _point_names(parts, grid, shapes) -> np.ndarray:
+    """Each shape's name (G, L) at the grid's stiffness values (G,) [N/m]: the body with the most
+    kinetic energy and its motion that carries the most of it (a rotor's 'axial',
+    'cylindrical', 'conical' or 'torsional', the stator's 'axial', 'lateral', 'rocking' or
+    'roll'); a flexible rotor's motion is 'bending' where its shafts store more than
+    ``modal.BENDING_FRACTION`` of the shape's strain energy at that stiffness."""
+    from ..assembly import shaft_stiffness
+    from .modal import BENDING_FRACTION
+
+    model = parts.model
     names, energies = _body_energies(model, shapes)
     body = np.argmax(energies.sum(axis=-1), axis=-1)                                      # (G, L)
     motion = np.take_along_axis(energies, body[..., None, None], axis=-2)[..., 0, :].argmax(axis=-1)
     kinds = np.array([[f"{name} {word}" for word in (_STATOR_MOTIONS if name == "stator" else _ROTOR_MOTIONS)]
                       for name in names])
     words = kinds[body, motion]
-    out = []
-    for j in range(words.shape[1]):
-        values, counts = np.unique(words[present[:, j], j], return_counts=True)
-        out.append(str(values[np.argmax(counts)]) if len(values) else "")
-    return tuple(out)
+    flexible = np.array([name != "stator" and model.rotor(name).flexible is not None for name in names])
+    if not flexible.any():
+        return words
+    strain = _strain(shapes, shaft_stiffness(model))
+    total = _strain(shapes, parts.rest) + np.asarray(grid, dtype=float)[:, None] * _strain(shapes, parts.unit)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        bent = flexible[body] & (strain > BENDING_FRACTION * total)
+    bending = np.array([f"{name} bending" for name in names])
+    return np.where(bent, bending[body], words)
+
+
+def _strain(shapes, K):
+    """``Re(phi^H K phi)`` (G, L) of shapes (G, L, n), twice the strain energy."""
+    return np.einsum("gln,gln->gl", shapes.conj(), shapes @ K.T).real
 
 
 def _constant_values(chosen) -> np.ndarray:

@@ -132,6 +132,19 @@ def _place_labels(ax, labels, first=0, count=0):
 
     circles = [c[:2] for c in labels[first:first + count]]
     drawn, crossing = place(_TOUCHING)
+    longest = _longest_leader(ax, drawn) if count and not sum(crossing) else 0.0
+    if longest > _LONG_LEADER:
+        # circles that overlap share a label where one leader is long else (the fan's '3645',
+        # three overlapping circles on one stiffness line: 41 points down the brown curve)
+        for text in drawn:
+            text.remove()
+        wider, fewer = place(_OVERLAPPING)
+        if not sum(fewer) and _longest_leader(ax, wider) < longest:
+            drawn = wider
+        else:
+            for text in wider:
+                text.remove()
+            drawn, crossing = place(_TOUCHING)
     if sum(crossing) and count:
         # circles that overlap share a label where leaders cross curves or other circles else
         # (motor_pump_on_mounts' '52517', '56625' and '62212' at 1e8 N/m, 3.4 points apart on one
@@ -141,10 +154,140 @@ def _place_labels(ax, labels, first=0, count=0):
             text.remove()
         wider, fewer = place(_OVERLAPPING)
         if fewer[0] <= crossing[0] and sum(fewer) < sum(crossing):
-            return
-        for text in wider:
-            text.remove()
-        place(_TOUCHING)
+            drawn = wider
+        else:
+            for text in wider:
+                text.remove()
+            drawn, _ = place(_TOUCHING)
+    _shorter_leaders(ax, drawn, [label[:2] for label in labels])
+
+
+#: a label whose leader is longer than this [points] is moved nearer its point where a place is free
+_SHORT_LEADER = 8.0
+#: where a crossing's leader is longer than this [points], overlapping circles share one label
+_LONG_LEADER = 24.0
+
+
+def _longest_leader(ax, drawn) -> float:
+    """The longest leader of the labels ``drawn`` [points], from the text's box to its point."""
+    from matplotlib.text import Text
+
+    from ._labels import laid_out_renderer
+
+    renderer = laid_out_renderer(ax.figure)
+    longest = 0.0
+    for text in drawn:
+        text.update_positions(renderer)
+        anchor = ax.transData.transform(text.xy)
+        box = np.array(Text.get_window_extent(text, renderer).extents)
+        longest = max(longest, float(np.hypot(*(_nearest(box, anchor) - anchor))))
+    return longest * 72.0 / ax.figure.dpi
+#: the places tried around the point: steps of this [points], out to the leader's length
+_STEP_POINTS = 1.5
+#: a moved label keeps this far [points] from other labels, the axes' edge and the markers' circles,
+#: and this much farther from the lines' middles (half the curves' width)
+_CLEAR_POINTS, _LINE_POINTS = 1.0, 1.0
+
+
+def _shorter_leaders(ax, drawn, points):
+    """Move each label of ``drawn`` whose leader is longer than :data:`_SHORT_LEADER` to the
+    free place nearest its point (the fan's '3645' and '3394', three circles on one stiffness
+    line, stood 41 and 19 points away down the brown curve, '4184' 17 points away while a
+    place beside its circle was free): a place inside the axes, clear of every other text, of
+    the circles and squares drawn (``points``: the labelled points, data coordinates) and of
+    every line, whose leader crosses no line outside the point's own circle, no other leader and
+    no other circle. Measured on the figure laid out at :data:`SAVED_DPI`; a label with no
+    nearer place stays where :func:`_place_labels` put it."""
+    from matplotlib.text import Text
+
+    from ._labels import _drawn_segments, crosses_any, crosses_segments, laid_out_renderer
+
+    if not drawn:
+        return
+    fig = ax.figure
+    dpi = fig.get_dpi()
+    fig.set_dpi(SAVED_DPI)
+    try:
+        renderer = laid_out_renderer(fig)
+        scale = SAVED_DPI / 72.0
+        frame = ax.get_window_extent(renderer)
+        segments = _drawn_segments(ax, [], (frame.x0, frame.y0, frame.x1, frame.y1))
+        radius = 0.5 * _CIRCLE_POINTS * scale
+        centres = ax.transData.transform(np.asarray(points, float).reshape(-1, 2))
+        texts = [t for t in ax.texts if t.get_visible()] + list(ax.artists)
+        for text in drawn:
+            for t in drawn:
+                t.update_positions(renderer)
+            box = np.array(Text.get_window_extent(text, renderer).extents)
+            anchor = ax.transData.transform(text.xy)
+            length = np.hypot(*(_nearest(box, anchor) - anchor))
+            if length <= _SHORT_LEADER * scale:
+                continue
+            others = [np.array(Text.get_window_extent(t, renderer).extents) for t in texts if t is not text]
+            leaders = [np.r_[_nearest(b, ax.transData.transform(t.xy)), ax.transData.transform(t.xy)]
+                       for t, b in ((t, np.array(Text.get_window_extent(t, renderer).extents)) for t in drawn)
+                       if t is not text]
+            place = _nearer_place(box, anchor, length, (frame, segments, centres, radius, scale), others, leaders,
+                                  (crosses_any, crosses_segments))
+            if place is not None:
+                w, h = box[2] - box[0], box[3] - box[1]
+                end = _nearest(place, anchor)
+                text.xyann = ((place[0] - anchor[0]) / scale, (place[1] - anchor[1]) / scale)
+                text.arrowprops["relpos"] = ((end[0] - place[0]) / w, (end[1] - place[1]) / h)
+    finally:
+        fig.set_dpi(dpi)
+
+
+def _nearest(box, point):
+    """The point of ``box`` (x0, y0, x1, y1) nearest ``point`` (pixels)."""
+    return np.array([min(max(point[0], box[0]), box[2]), min(max(point[1], box[1]), box[3])])
+
+
+def _nearer_place(box, anchor, length, scene, others, leaders, tests):
+    """The box of ``box``'s size nearest ``anchor`` (its leader shorter than ``length`` by a
+    step at least) that is free (:func:`_shorter_leaders`), or None; all in pixels."""
+    frame, segments, centres, radius, scale = scene
+    crosses_any, crosses_segments = tests
+    w, h = box[2] - box[0], box[3] - box[1]
+    step, clear, line = _STEP_POINTS * scale, _CLEAR_POINTS * scale, _LINE_POINTS * scale
+    reach = np.arange(-length - w, length + step, step)
+    x0 = anchor[0] + reach
+    y0 = anchor[1] + np.arange(-length - h, length + step, step)
+    grid = np.stack(np.meshgrid(x0, y0), axis=-1).reshape(-1, 2)
+    near = np.column_stack([np.clip(anchor[0], grid[:, 0], grid[:, 0] + w), np.clip(anchor[1], grid[:, 1], grid[:, 1] + h)])
+    distance = np.hypot(*(near - anchor).T)
+    order = np.argsort(distance, kind="stable")
+    order = order[distance[order] <= length - step]
+    own = np.hypot(*(centres - anchor).T) <= radius
+    markers = np.column_stack([centres - radius - clear, centres + radius + clear])
+    for i in order:
+        place = np.r_[grid[i], grid[i] + (w, h)]
+        padded = place + (-clear, -clear, clear, clear)
+        if padded[0] < frame.x0 or padded[1] < frame.y0 or padded[2] > frame.x1 or padded[3] > frame.y1:
+            continue
+        if any(_overlap(padded, b) for b in others) or any(_overlap(padded, b) for b in markers):
+            continue
+        if len(segments) and crosses_any(segments, [padded + (-line, -line, line, line)]):
+            continue
+        start = near[i]
+        if len(centres[~own]) and np.hypot(*(np.clip(centres[~own], place[:2], place[2:]) - centres[~own]).T).min() \
+                <= distance[i]:
+            continue                  # nearer another point than its own: it would name that one
+        if crosses_segments(start, anchor, leaders):
+            continue
+        hits = _meets(start, anchor, segments) if len(segments) else np.zeros((0, 2))
+        if np.any(np.hypot(*(hits - anchor).T) > radius + 0.5):
+            continue
+        way = anchor - start
+        t = np.clip((centres[~own] - start) @ way / max(float(way @ way), 1e-12), 0.0, 1.0)
+        if np.any(np.hypot(*(start + t[:, None] * way - centres[~own]).T) < radius + 0.5):
+            continue
+        return place
+    return None
+
+
+def _overlap(a, b):
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
 def _lead_to_nearest(ax, text, members, renderer):

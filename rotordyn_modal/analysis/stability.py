@@ -713,7 +713,7 @@ def passive_at(form, speeds) -> np.ndarray:
     damping ``C`` at that speed symmetric and positive semidefinite (bearings' included), and its
     mounts' Maxwell branches' stiffness symmetric positive semidefinite with positive times. Then
     the energy ``q'* M q' / 2 + q* K q / 2`` (with the branches' springs' energy) never grows, as a
-    root of positive real part would make it (Kelvin-Tait-Chetaev, ``docs/theory.md``): such a
+    root of positive real part would make it (Kelvin-Tait-Chetaev): such a
     speed is never unstable, whatever the gyroscopic terms. A circulatory term (a non-symmetric
     ``K``: cross-coupled bearings or supports, journal bearings' films) leaves it unproven (False).
 
@@ -788,11 +788,15 @@ STATE_BAND = 10.0
 
 
 def unstable_states(form, speeds) -> np.ndarray:
-    """Whether the sweep can read each speed as unstable, shape (N,) of int: 1 where a root's real
-    part exceeds ``STATE_BAND`` times its round-off level (:func:`_significant_real_parts`'s, of
-    the roots a sweep keeps: :func:`._eigensolve.select_upper`), -1 where every root's lies below
-    that level over ``STATE_BAND`` (or it is rigid), 0 in between (either). One eigenvalue
-    solution a speed.
+    """Whether a sweep can read each speed as unstable, shape (N,) of int, from numpy's eigenvalues
+    of the state matrix alone (one solution a speed, no shapes): 1 where an oscillating root's real
+    part exceeds ``STATE_BAND`` times its round-off level (:func:`_significant_real_parts`'s:
+    ``1e-10 |lam|`` or :func:`roundoff_levels`), -1 where no root's exceeds that level over
+    ``STATE_BAND`` (every speed of a conservative machine), 0 in between (either). The roots a
+    sweep may judge otherwise count as either where their real part is above that level: real
+    roots (a sweep keeps half of them) and roots within ``STATE_BAND`` of the square root of the
+    round-off (a sweep calls such a root zero, or a slow mode, by its shape:
+    :func:`._roots.zero_roots`).
 
     Parameters
     ----------
@@ -802,11 +806,15 @@ def unstable_states(form, speeds) -> np.ndarray:
     speeds = np.asarray(speeds, dtype=float)
     out = np.empty(len(speeds), dtype=int)
     for k, speed in enumerate(speeds):
-        roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(form.at(speed)[None], form.n_dof,
-                                                                    form.matrices.M))[0]
-        level = np.maximum(_MARGINAL_TOLERANCE * np.abs(roots), roundoff_levels(form, [speed])[0])
-        real = np.where((roots == 0) | np.isnan(roots), -np.inf, roots.real)
-        out[k] = 1 if np.any(real > STATE_BAND * level) else -1 if np.all(real <= level / STATE_BAND) else 0
+        noise = roundoff_levels(form, [speed])[0]
+        if not np.isfinite(noise):
+            out[k] = -1                          # conservative: every root on the imaginary axis
+            continue
+        roots = np.linalg.eigvals(form.at(float(speed)))
+        level = np.maximum(_MARGINAL_TOLERANCE * np.abs(roots), noise)
+        above = roots.real > level / STATE_BAND
+        judged = (np.abs(roots.imag) > STATE_BAND * noise) & (np.abs(roots) > STATE_BAND * np.sqrt(noise))
+        out[k] = 1 if np.any(judged & (roots.real > STATE_BAND * level)) else 0 if np.any(above) else -1
     return out
 
 

@@ -548,29 +548,29 @@ THRESHOLD_SOLVES = 10
 THRESHOLD_SOLVE_SECONDS = 0.02
 
 
-#: CPU seconds :func:`_thresholds_bound` may spend solving the eigenvalues of the sweep's speeds
-#: (:data:`.._cost.EIGVALS_SHARE` of a timed eigen-solution each); past it every speed not proven
-#: stable counts as either
+#: the eigenvalue solutions :func:`_thresholds_bound` may make, counted as the bound without
+#: timing counts them (:data:`.._cost._PESSIMISTIC` per cubed state, :data:`.._cost.EIGVALS_SHARE`
+#: of one) [CPU s]; past it every speed not proven stable counts as either
 THRESHOLD_SCAN_SECONDS = 5.0
 
 
-def _thresholds_bound(model, inputs, eig: float | None = None) -> int:
+def _thresholds_bound(model, inputs) -> int:
     """The most thresholds the stability row can refine (:func:`sweep_thresholds`), counted before
     the sweep: one per pair of neighbouring speeds of the sweep unless both are surely stable or
     surely unstable (:func:`..analysis.stability.threshold_count_bound`), so that an instability
     inside the sweep (a mode unstable and stable again) counts its onset and its end. A speed is
     surely stable where the machine is passive (:func:`..analysis.stability.passive_at`: no
-    circulatory term, the energy never grows); otherwise it is judged by its eigenvalues
-    (:func:`..analysis.stability.unstable_states`, a band of round-off either way), where
-    solving them all takes at most :data:`THRESHOLD_SCAN_SECONDS` (``eig`` [CPU s]: one
-    eigen-solution of the state matrix, timed where None), and counts as either beyond.
+    circulatory term, its energy never grows); the others are judged by their eigenvalues
+    (:func:`..analysis.stability.unstable_states`, a band of round-off either way) where solving
+    them is counted at most :data:`THRESHOLD_SCAN_SECONDS` (from the size: the same count on
+    every machine), and count as either beyond.
 
     Returns
     -------
     int, at most ``len(inputs.speeds) - 1``
     """
     from .._blas import one_blas_thread
-    from ..analysis import _cost, _work
+    from ..analysis import _cost
     from ..analysis.stability import passive_at, threshold_count_bound, unstable_states
     from ..errors import ModelError
     from ..linear_system import speed_linear_form
@@ -584,14 +584,13 @@ def _thresholds_bound(model, inputs, eig: float | None = None) -> int:
     except (InputError, ModelError):
         return len(speeds) - 1
     unknown = np.flatnonzero(states == 0)
-    if unknown.size:
-        eig = _work.eig_seconds(form.n_states) if eig is None else eig
-        if unknown.size * _cost.EIGVALS_SHARE * eig <= THRESHOLD_SCAN_SECONDS:
-            with one_blas_thread(72 * form.n_states ** 2):
-                try:
-                    states[unknown] = unstable_states(form, speeds[unknown])
-                except (InputError, ModelError):
-                    pass
+    scan = unknown.size * _cost.EIGVALS_SHARE * _cost._PESSIMISTIC * float(form.n_states) ** 3
+    if unknown.size and scan <= THRESHOLD_SCAN_SECONDS:
+        with one_blas_thread(72 * form.n_states ** 2):
+            try:
+                states[unknown] = unstable_states(form, speeds[unknown])
+            except (InputError, ModelError, np.linalg.LinAlgError):
+                pass                                    # not judged: either, as beyond the budget
     return threshold_count_bound(states)
 
 
@@ -834,7 +833,7 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     campbell = _report_numbers(_work.estimate(model, speeds, (1,), critical=True, numbers=True))
     eig = _work.eig_seconds(campbell.n_states)
     round_off = ROUND_OFF_SECONDS * campbell.crossings * float(campbell.n_states) ** 2
-    thresholds = _thresholds_bound(model, inputs, eig)
+    thresholds = _thresholds_bound(model, inputs)
     refined = thresholds * THRESHOLD_SOLVES * (eig + THRESHOLD_SOLVE_SECONDS)
     parts = [("static", shares["static"] * eig, "1 solve at the MCS"),
              ("campbell", campbell.seconds + round_off + refined,

@@ -799,7 +799,8 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
         A pessimistic bound [s] from the sizes alone instead (no timing, no matrices: every mode
         crossing every order line, :data:`.._cost._PESSIMISTIC` per cubed state, the Level I
         sweep with :data:`_LEVEL1_EXTRA` more values, every mode a bracket of every source and a
-        peak of every sensor, a stability threshold between every two speeds, twice the seconds of the page and of the cases' set-up).
+        peak of every sensor, a stability threshold between every two speeds, twice the seconds
+        of the page and of the cases' set-up).
 
     Returns
     -------

@@ -94,19 +94,25 @@ def test_bound_counts_the_island_and_its_refinement(island, monkeypatch):
 
     inputs = ReportInputs("api684", MCS, points=21)
     bound = collect_module._thresholds_bound(island, inputs)
+    calls = [0]
+
+    def counting(name):
+        solve = getattr(stability_module, name)
+
+        def counted(*args, **kwargs):
+            calls[0] += 1
+            return solve(*args, **kwargs)
+        monkeypatch.setattr(stability_module, name, counted)
+
+    counting("_largest_real_part")
+    counting("_polished_largest_real_part")
     found = len(stability(island, inputs.speeds).thresholds)
     assert found == 2
     assert bound >= found
+    assert 0 < calls[0] <= bound * collect_module.THRESHOLD_SOLVES
 
-    calls = [0]
-    solve = stability_module._polished_largest_real_part
-
-    def counted(*args, **kwargs):
-        calls[0] += 1
-        return solve(*args, **kwargs)
-
+    calls[0] = 0
     result = campbell(island, inputs.speeds, orders=(1,))
-    monkeypatch.setattr(stability_module, "_polished_largest_real_part", counted)
     (thresholds, _, _), _ = collect_module.sweep_thresholds(island, result)
     assert len(thresholds) == found
     assert 0 < calls[0] <= bound * collect_module.THRESHOLD_SOLVES

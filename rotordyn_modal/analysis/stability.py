@@ -707,6 +707,125 @@ def roundoff_levels(form, speeds) -> np.ndarray:
     return np.where(_roots.conservative(form, speeds), np.inf, np.finfo(float).eps * out)
 
 
+def passive_at(form, speeds) -> np.ndarray:
+    """Where the machine provably has no root of positive real part, shape (N,) of bool: where
+    its mass matrix is symmetric, its gyroscopic matrix skew-symmetric, its stiffness ``K`` and
+    damping ``C`` at that speed symmetric and positive semidefinite (bearings' included), and its
+    mounts' Maxwell branches' stiffness symmetric positive semidefinite with positive times. Then
+    the energy ``q'* M q' / 2 + q* K q / 2`` (with the branches' springs' energy) never grows, as a
+    root of positive real part would make it (Kelvin-Tait-Chetaev): such a
+    speed is never unstable, whatever the gyroscopic terms. A circulatory term (a non-symmetric
+    ``K``: cross-coupled bearings or supports, journal bearings' films) leaves it unproven (False).
+
+    Parameters
+    ----------
+    form : SpeedLinearForm
+    speeds : ndarray, shape (N,) [rad/s]
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    matrices = form.sparse if form.sparse is not None else form.matrices
+    blocks_passive = all(_symmetric_psd(block) for block in form.branch_blocks) and bool(np.all(form.branch_times > 0))
+    if not (blocks_passive and _symmetric(matrices.M) and _symmetric(matrices.G, sign=-1)):
+        return np.zeros(len(speeds), dtype=bool)
+    if not form.speed_dependent:
+        return np.full(len(speeds), _symmetric_psd(matrices.K) and _symmetric_psd(matrices.C))
+    stiffness, damping = form.pencil_at(speeds)
+    return np.array([_symmetric_psd(k) and _symmetric_psd(c) for k, c in zip(stiffness, damping)], dtype=bool)
+
+
+#: relative tolerance of :func:`passive_at`'s checks: an asymmetry ``|a_ij - a_ji|`` within it of
+#: ``sqrt(|a_ii a_jj|)`` is round-off (measured below 1e-16 on the examples), as a negative
+#: eigenvalue within it of the matrix scaled to a unit diagonal
+_PASSIVE_TOLERANCE = 1e-12
+
+
+def _dense(matrix) -> np.ndarray:
+    return matrix.toarray() if hasattr(matrix, "toarray") else np.asarray(matrix, dtype=float)
+
+
+def _symmetric(matrix, sign: int = 1) -> bool:
+    """``matrix`` (n, n), dense or ``scipy.sparse``, equal to ``sign`` times its transpose to
+    :data:`_PASSIVE_TOLERANCE` of its diagonal's scale (of its largest entry for ``sign = -1``)."""
+    if hasattr(matrix, "toarray"):
+        difference = abs(matrix - sign * matrix.T).max()
+        scale = abs(matrix).max()
+        return bool(difference <= _PASSIVE_TOLERANCE * scale)
+    matrix = np.asarray(matrix, dtype=float)
+    difference = np.abs(matrix - sign * matrix.T)
+    if sign < 0:
+        return bool(difference.max(initial=0.0) <= _PASSIVE_TOLERANCE * np.abs(matrix).max(initial=0.0))
+    diagonal = np.sqrt(np.abs(np.outer(np.diag(matrix), np.diag(matrix))))
+    return bool(np.all(difference <= _PASSIVE_TOLERANCE * diagonal))
+
+
+def _symmetric_psd(matrix) -> bool:
+    """``matrix`` (n, n) symmetric (:func:`_symmetric`) and positive semidefinite: no negative
+    diagonal, rows of a zero diagonal entry zero, and a Cholesky factor of the rest scaled to a unit
+    diagonal plus :data:`_PASSIVE_TOLERANCE`."""
+    matrix = _dense(matrix)
+    if not _symmetric(matrix):
+        return False
+    diagonal = np.diag(matrix)
+    if np.any(diagonal < 0):
+        return False
+    zero = diagonal == 0
+    if np.any(matrix[zero] != 0):
+        return False
+    keep = ~zero
+    scale = 1 / np.sqrt(diagonal[keep])
+    scaled = 0.5 * (matrix[np.ix_(keep, keep)] + matrix[np.ix_(keep, keep)].T) * np.outer(scale, scale)
+    try:
+        scipy.linalg.cholesky(scaled + _PASSIVE_TOLERANCE * np.eye(len(scaled)), lower=True, check_finite=True)
+    except (np.linalg.LinAlgError, ValueError):
+        return False
+    return True
+
+
+#: :func:`unstable_states`' band: a root's real part within this factor of its round-off level (below
+#: or above) may be read on either side of it by another solution of the same matrix (the sweep's
+#: batch, its polish)
+STATE_BAND = 10.0
+
+
+def unstable_states(form, speeds) -> np.ndarray:
+    """Whether a sweep can read each speed as unstable, shape (N,) of int, from numpy's eigenvalues
+    of the state matrix alone (one solution a speed, no shapes): 1 where an oscillating root's real
+    part exceeds ``STATE_BAND`` times its round-off level (:func:`_significant_real_parts`'s:
+    ``1e-10 |lam|`` or :func:`roundoff_levels`), -1 where no root's exceeds that level over
+    ``STATE_BAND`` (every speed of a conservative machine), 0 in between (either). The roots a
+    sweep may judge otherwise count as either where their real part is above that level: real
+    roots (a sweep keeps half of them) and roots within ``STATE_BAND`` of the square root of the
+    round-off (a sweep calls such a root zero, or a slow mode, by its shape:
+    :func:`._roots.zero_roots`).
+
+    Parameters
+    ----------
+    form : SpeedLinearForm
+    speeds : ndarray, shape (N,) [rad/s]
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    out = np.empty(len(speeds), dtype=int)
+    for k, speed in enumerate(speeds):
+        noise = roundoff_levels(form, [speed])[0]
+        if not np.isfinite(noise):
+            out[k] = -1                          # conservative: every root on the imaginary axis
+            continue
+        roots = np.linalg.eigvals(form.at(float(speed)))
+        level = np.maximum(_MARGINAL_TOLERANCE * np.abs(roots), noise)
+        above = roots.real > level / STATE_BAND
+        judged = (np.abs(roots.imag) > STATE_BAND * noise) & (np.abs(roots) > STATE_BAND * np.sqrt(noise))
+        out[k] = 1 if np.any(judged & (roots.real > STATE_BAND * level)) else 0 if np.any(above) else -1
+    return out
+
+
+def threshold_count_bound(states) -> int:
+    """The most thresholds :func:`threshold_speeds` can find on a sweep whose speeds' states are
+    ``states`` (N,) (1 unstable, -1 not, 0 either: :func:`unstable_states`, or -1 where
+    :func:`passive_at`): one per pair of neighbouring speeds unless both are surely the same."""
+    states = np.asarray(states)
+    return int(np.count_nonzero((states[:-1] == 0) | (states[1:] == 0) | (states[:-1] != states[1:])))
+
+
 def _largest_real_part(form, speed, clip: bool = True, near=None) -> float:
     """The largest real part at one speed [1/s], of the roots a sweep keeps (one of each
     conjugate pair, their round-off removed as the sweep's, each slow root judged by its own

@@ -300,8 +300,11 @@ def _write(result, args, folder, kinds=None):
 
 
 #: said once on the terminal where a study's ``unbalance`` analysis gives AF (docs/study-file.md)
-SWEPT_AF = ("amplification_factor: read off the swept speeds (half-power points interpolated between them), "
-            "not searched on the exact response as `unbalance` and `report` do; a sharp peak needs fine speeds")
+SWEPT_AF = ("unbalance_peak_amplitude, unbalance_peak_speed, amplification_factor, separation_margin_pct, "
+            "required_margin_pct (and force_peak_amplitude, force_peak_speed): read off the swept speeds (the "
+            "largest swept peak, the AF's half-power points interpolated between them; netCDF attribute "
+            "peak_search), not searched on the exact response as `unbalance` and `report` do; a sharp peak "
+            "needs fine speeds")
 
 
 def _report(result, band, kinds=None):

@@ -548,27 +548,50 @@ THRESHOLD_SOLVES = 10
 THRESHOLD_SOLVE_SECONDS = 0.02
 
 
+#: the eigenvalue solutions :func:`_thresholds_bound` may make, counted as the bound without
+#: timing counts them (:data:`.._cost._PESSIMISTIC` per cubed state, :data:`.._cost.EIGVALS_SHARE`
+#: of one) [CPU s]; past it every speed not proven stable counts as either
+THRESHOLD_SCAN_SECONDS = 5.0
+
+
 def _thresholds_bound(model, inputs) -> int:
-    """The thresholds the stability row refines (:func:`sweep_thresholds`), counted before the
-    sweep: the roots that grow (real part above ``1e-9 |lam|``) at the sweep's highest speed, where
-    a machine that turns unstable with speed is; one eigenvalue solution of the state matrix (none
-    for a large model, :func:`..assembly.is_large`: 0)."""
+    """The most thresholds the stability row can refine (:func:`sweep_thresholds`), counted before
+    the sweep: one per pair of neighbouring speeds of the sweep unless both are surely stable or
+    surely unstable (:func:`..analysis.stability.threshold_count_bound`), so that an instability
+    inside the sweep (a mode unstable and stable again) counts its onset and its end. A speed is
+    surely stable where the machine is passive (:func:`..analysis.stability.passive_at`: no
+    circulatory term, its energy never grows); the others are judged by their eigenvalues
+    (:func:`..analysis.stability.unstable_states`, a band of round-off either way) where solving
+    them is counted at most :data:`THRESHOLD_SCAN_SECONDS` (from the size: the same count on
+    every machine), and count as either beyond.
+
+    Returns
+    -------
+    int, at most ``len(inputs.speeds) - 1``
+    """
     from .._blas import one_blas_thread
-    from ..assembly import is_large
+    from ..analysis import _cost
+    from ..analysis.stability import passive_at, threshold_count_bound, unstable_states
     from ..errors import ModelError
     from ..linear_system import speed_linear_form
 
-    if is_large(model):
+    speeds = np.asarray(inputs.speeds, dtype=float)
+    if len(speeds) < 2:
         return 0
     try:
-        matrix = speed_linear_form(model).at(np.array([float(np.max(np.abs(inputs.speeds)))]))[0]
+        form = speed_linear_form(model)
+        states = np.where(passive_at(form, speeds), -1, 0)
     except (InputError, ModelError):
-        return 0
-    if not np.all(np.isfinite(matrix)):
-        return 0
-    with one_blas_thread(72 * matrix.shape[0] ** 2):
-        values = np.linalg.eigvals(matrix)
-    return int(np.count_nonzero((values.imag >= 0) & (values.real > 1e-9 * np.abs(values))))
+        return len(speeds) - 1
+    unknown = np.flatnonzero(states == 0)
+    scan = unknown.size * _cost.EIGVALS_SHARE * _cost._PESSIMISTIC * float(form.n_states) ** 3
+    if unknown.size and scan <= THRESHOLD_SCAN_SECONDS:
+        with one_blas_thread(72 * form.n_states ** 2):
+            try:
+                states[unknown] = unstable_states(form, speeds[unknown])
+            except (InputError, ModelError, np.linalg.LinAlgError):
+                pass                                    # not judged: either, as beyond the budget
+    return threshold_count_bound(states)
 
 
 def _line_crossings(model, x) -> np.ndarray:
@@ -776,7 +799,8 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
         A pessimistic bound [s] from the sizes alone instead (no timing, no matrices: every mode
         crossing every order line, :data:`.._cost._PESSIMISTIC` per cubed state, the Level I
         sweep with :data:`_LEVEL1_EXTRA` more values, every mode a bracket of every source and a
-        peak of every sensor, twice the seconds of the page and of the cases' set-up).
+        peak of every sensor, a stability threshold between every two speeds, twice the seconds
+        of the page and of the cases' set-up).
 
     Returns
     -------
@@ -800,7 +824,8 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
         shares["ucs"] += UCS_SHARE * _ucs_refined(model)
         ucs = 2 * shares["ucs"]                                                 # and a map widened
         crossings = 2 * model.dofs.n * len(_work._line_slopes(model, (1,)))
-        solutions = (sum(shares.values()) + ucs + search + crossings / n_states
+        thresholds = max(len(speeds) - 1, 0) * THRESHOLD_SOLVES        # every pair of speeds a threshold
+        solutions = (sum(shares.values()) + ucs + search + crossings / n_states + thresholds
                      + (sweep_solutions(grid) if level1 else 0))
         return (_work._quick_bound(model, speeds, (1,), True, True, len(speeds))
                 + solutions * _cost._PESSIMISTIC * float(n_states) ** 3

@@ -154,20 +154,29 @@ def build_dataset(chunks, values, definition, variables, coords, model, attrs=No
     for name in ("unbalance_peak_amplitude", "force_peak_amplitude"):
         if name in ds:       # unbalance --amplitude's default: x(t) = amplitude cos(...) (docs/standards.md)
             ds[name].attrs["amplitude"] = "0-peak"
-    for name in ("amplification_factor", "required_margin_pct"):
+    for name, search in SWEPT_COLUMNS.items():
         if name in ds:       # not the exact search of unbalance and report (docs/study-file.md)
-            ds[name].attrs["peak_search"] = SWEPT_PEAK_SEARCH
+            ds[name].attrs["peak_search"] = search
     return ds
 
 
 #: the netCDF attribute ``peak_search`` of a study's ``amplification_factor`` and ``required_margin_pct``
 SWEPT_PEAK_SEARCH = "swept speeds (half-power points interpolated between them)"
+#: ... of the peak's own columns: its speed and amplitude, and the margin of that speed
+SWEPT_PEAK = "swept speeds (the largest swept peak, or the curve's largest swept value where it has none)"
+#: every column of a study's ``unbalance`` analysis read off its swept speeds -> its ``peak_search``
+#: attribute (:data:`..study.analyses._UNBALANCE_VARIABLES`, :data:`..study.analyses._FORCE_VARIABLES`)
+SWEPT_COLUMNS = {"unbalance_peak_amplitude": SWEPT_PEAK, "unbalance_peak_speed": SWEPT_PEAK,
+                 "amplification_factor": SWEPT_PEAK_SEARCH, "separation_margin_pct": SWEPT_PEAK,
+                 "required_margin_pct": SWEPT_PEAK_SEARCH, "force_peak_amplitude": SWEPT_PEAK,
+                 "force_peak_speed": SWEPT_PEAK}
 
 
 _UNITS = {"frequency_hz": "Hz", "damping_ratio": "1", "real_part": "1/s", "whirl_ratio": "1",
           "critical_speed": "rad/s", "critical_frequency_hz": "Hz", "modal_frequency_hz": "Hz",
           "modal_damping_ratio": "1", "threshold_speed": "rad/s", "instability_speed": "rad/s", "max_real_part": "1/s",
-          "unbalance_peak_speed": "rad/s", "separation_margin_pct": "%", "required_margin_pct": "%"}
+          "unbalance_peak_speed": "rad/s", "force_peak_speed": "rad/s", "separation_margin_pct": "%",
+          "required_margin_pct": "%"}
 
 
 def percentile_interval(x, q: float, confidence: float = 0.95):

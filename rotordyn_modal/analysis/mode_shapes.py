@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, ModelWarning
 from ..model._table import LARGEST
 
 __all__ = ["MachineOutline", "Body", "Spring", "Arrow", "machine_outline", "ModeShape3D", "mode_shape_3d",
@@ -117,17 +117,25 @@ def machine_outline(model, outline=None) -> MachineOutline:
     ----------
     model : Model
     outline : array_like, shape (n_points, 3), optional
-        The stator's outline as polylines [m], model axes; rows of NaN separate the lines.
+        The stator's outline as polylines [m], model axes; rows of NaN separate the lines
+        (``rotordyn_modal.io.outline.read_outline`` reads a file of them and names it).
 
     Returns
     -------
     MachineOutline
+
+    Warns
+    -----
+    ModelWarning
+        An outline more than 30 times wider than the machine's own drawing: a drawing's
+        millimetres or inches read as metres (:func:`outline_scale_words`).
     """
     axis = np.asarray(model.spin_axis, dtype=float)
     bodies = [_rotor_body(model, rotor, axis) for rotor in model.rotors]
     brackets = np.zeros((0, 2, 3))
     if outline is not None:
         bodies.insert(0, _outline_body(outline))
+        _warn_wide_outline(outline, model)
     elif model.stator is not None:
         box = _stator_box(model.stator)
         bodies.insert(0, box)
@@ -146,6 +154,43 @@ def machine_outline(model, outline=None) -> MachineOutline:
                             np.asarray(x.direction, float)) for x in model.excitations if x.kind == "force"])
     return MachineOutline(bodies=tuple(bodies), brackets=brackets, bracket_body=_holder(model), springs=springs,
                           arrows=arrows, size=size, spin_axis=axis)
+
+
+#: an outline this many times wider than the machine it draws was most likely typed in another unit
+_WIDER = 30.0
+
+
+def _warn_wide_outline(outline, model) -> None:
+    """One warning for an outline far wider than the machine's own drawing (bodies, mounts,
+    bearings, the stator box): said here, where the command line and the Python API meet."""
+    import warnings
+
+    words = outline_scale_words(outline, machine_outline(model).size, getattr(outline, "source", None))
+    if words:
+        warnings.warn(words, ModelWarning, stacklevel=4)
+
+
+def outline_scale_words(points, machine_size: float, path) -> str | None:
+    """The warning for an outline far wider than the machine (a drawing's millimetres or inches
+    read as metres, no unit in its header: the machine shrinks to a dot in the figure), else None.
+
+    Parameters
+    ----------
+    points : ndarray, shape (n, 3)
+        The outline's points [m] (NaN rows between lines).
+    machine_size : float
+        The largest extent of the machine's own drawing [m] (bodies, mounts, bearings).
+    path : path-like or None
+        The file, for the words (None: an outline given as an array).
+    """
+    drawn = np.asarray(points, float)
+    drawn = drawn[~np.isnan(drawn).any(axis=1)]
+    size = float(np.max(np.ptp(drawn, axis=0))) if len(drawn) else 0.0
+    if not machine_size > 0 or not size > _WIDER * machine_size:
+        return None
+    return (f"{str(path) + ': ' if path else ''}the outline spans {size:.4g} m, {size / machine_size:.3g} times the machine it draws "
+            f"({machine_size:.4g} m: its bodies, mounts and bearings); coordinates in mm or inches read as metres? "
+            "(a unit in the header converts them: 'x [mm]', 'y [in]')")
 
 
 def _holder(model):

@@ -135,6 +135,7 @@ def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=
         check_not_input(Path(path), inputs)
     fig = plot_mode_shape(view, units=units)
     ax, flat = fig.axes[0], list(zip(fig.axes[1:4], [pair for _, pair in _PROJECTIONS]))
+    _frame(ax, flat, view, units, cycle=True)   # held by every frame: an elliptic mode is largest elsewhere
     phases = 2 * np.pi * np.arange(int(frames)) / int(frames)
 
     def update(k):
@@ -889,12 +890,13 @@ def _label_arrows(ax, view, phase):
     ax.add_artist(layout)
 
 
-def _frame(ax, flat, view, units="si", phase=None):
+def _frame(ax, flat, view, units="si", phase=None, cycle=False):
     """Limits, labels and ticks of the 3D axes ``ax`` and its projections ``flat``: one cube
     around the machine at rest and, given ``phase`` [rad], its displaced drawing at that phase
-    (a displaced body beyond the outline is drawn whole, not cut at the frame's edge), with a
-    margin of 0.15 of the outline's size."""
-    points = np.concatenate(_frame_points(view, phase))
+    (a displaced body beyond the outline is drawn whole, not cut at the frame's edge), or with
+    ``cycle`` at every phase of the period (an animation: :func:`_cycle_points`), with a margin
+    of 0.15 of the outline's size."""
+    points = np.concatenate(_frame_points(view, phase) + (_cycle_points(view) if cycle else []))
     low, high = points.min(axis=0), points.max(axis=0)
     centre, half = 0.5 * (low + high), 0.5 * (high - low).max() + 0.15 * view.outline.size
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre):
@@ -930,6 +932,24 @@ def _frame_points(view, phase=None):
         points += [np.asarray(b, float).reshape(-1, 3) for b in view.brackets_at_phase(phase)]
         points += [np.asarray(pair, float).reshape(-1, 3) for pair in view.springs_at_phase(phase)]
     return [p for p in points if len(p)]
+
+
+def _cycle_points(view):
+    """Corners [m] of the box every phase of the period stays in, a list of (n, 3) arrays: a
+    point moving as ``p + Re(d exp(i phi))`` reaches ``p_k +- |d_k|`` in each coordinate ``k``
+    and no further, so ``p - |d|`` and ``p + |d|`` bound it whatever the whirl's ellipse (an
+    elliptic or backward mode is largest at another phase than 0). Bodies, brackets, the
+    springs' ends and the sensors' and excitations' arrows (tail and tip)."""
+    pairs = [(b.vertices, d) for b, d in zip(view.outline.bodies, view.body_motion)]
+    pairs.append((np.asarray(view.outline.brackets, float).reshape(-1, 3), np.reshape(view.bracket_motion, (-1, 3))))
+    for spring, motion in zip(view.outline.springs, view.spring_motion):
+        pairs += [(np.asarray(spring.point_a, float)[None], motion[:1]), (np.asarray(spring.point_b, float)[None], motion[1:])]
+    for arrow, motion in zip(view.outline.arrows, view.arrow_motion):
+        d = 0.12 * view.outline.size * arrow.direction / np.linalg.norm(arrow.direction)
+        ends = np.asarray([arrow.point - d, arrow.point] if arrow.kind == "excitation" else [arrow.point, arrow.point + d])
+        pairs.append((ends, np.broadcast_to(motion, ends.shape)))
+    reach = [(np.asarray(p, float), np.abs(np.asarray(d, complex))) for p, d in pairs if len(p)]
+    return [p + sign * r for p, r in reach for sign in (-1.0, 1.0)]
 
 
 def _unit_ticks(axis, factor):

@@ -420,6 +420,32 @@ class ModeShape3D:
         points = [displaced(a.point, d, phase) for a, d in zip(self.outline.arrows, self.arrow_motion)]
         return np.asarray(points, float).reshape(-1, 3)
 
+    def reach(self):
+        """How far the drawing goes over one period: for each drawn point (bodies' vertices,
+        brackets, springs' ends), its lowest and highest coordinates over every phase. A point
+        at ``p + Re(d exp(i phi))`` reaches ``p_k - |d_k|`` and ``p_k + |d_k|`` in each
+        coordinate ``k`` and no further, whatever the ellipse it whirls on.
+
+        Returns
+        -------
+        low, high : ndarray, shape (n, 3) [m]
+        """
+        points = [b.vertices for b in self.outline.bodies] + [np.reshape(self.outline.brackets, (-1, 3))]
+        motions = [np.asarray(d, complex) for d in self.body_motion] + [np.reshape(self.bracket_motion, (-1, 3))]
+        for spring, motion in zip(self.outline.springs, self.spring_motion):
+            points += [np.reshape(spring.point_a, (1, 3)), np.reshape(spring.point_b, (1, 3))]
+            motions += [motion[:1], motion[1:]]
+        return _reach(points, motions)
+
+    def arrow_reach(self):
+        """:meth:`reach` of each sensor's and excitation's point (in ``outline.arrows``' order).
+
+        Returns
+        -------
+        low, high : ndarray, shape (n_arrows, 3) [m]
+        """
+        return _reach([np.reshape([a.point for a in self.outline.arrows], (-1, 3))], [np.reshape(self.arrow_motion, (-1, 3))])
+
     def orbit_points(self):
         """The points whose whirl orbits the figures trace, and their complex displacements: each
         rotor's axis ends (its cylinder's two centres), a shaft line's two ends, the stator box's
@@ -472,6 +498,14 @@ class ModeShape3D:
         from ..plotting.shapes3d import animate_mode_shape
 
         return animate_mode_shape(self, path, **kwargs)
+
+
+def _reach(points, motions):
+    """``(low, high)``, each shape (n, 3) [m]: ``p -+ |d|`` of the stacked ``points`` and their
+    complex ``motions`` (lists of (m, 3) arrays)."""
+    p = np.concatenate([np.asarray(x, float).reshape(-1, 3) for x in points])
+    d = np.abs(np.concatenate([np.asarray(x, complex).reshape(-1, 3) for x in motions]))
+    return p - d, p + d
 
 
 def displaced(points, motion, phase: float) -> np.ndarray:

@@ -935,21 +935,17 @@ def _frame_points(view, phase=None):
 
 
 def _cycle_points(view):
-    """Corners [m] of the box every phase of the period stays in, a list of (n, 3) arrays: a
-    point moving as ``p + Re(d exp(i phi))`` reaches ``p_k +- |d_k|`` in each coordinate ``k``
-    and no further, so ``p - |d|`` and ``p + |d|`` bound it whatever the whirl's ellipse (an
-    elliptic or backward mode is largest at another phase than 0). Bodies, brackets, the
-    springs' ends and the sensors' and excitations' arrows (tail and tip)."""
-    pairs = [(b.vertices, d) for b, d in zip(view.outline.bodies, view.body_motion)]
-    pairs.append((np.asarray(view.outline.brackets, float).reshape(-1, 3), np.reshape(view.bracket_motion, (-1, 3))))
-    for spring, motion in zip(view.outline.springs, view.spring_motion):
-        pairs += [(np.asarray(spring.point_a, float)[None], motion[:1]), (np.asarray(spring.point_b, float)[None], motion[1:])]
-    for arrow, motion in zip(view.outline.arrows, view.arrow_motion):
+    """Corners [m] of the box every phase of the period stays in, a list of (n, 3) arrays: each
+    drawn point's reach over the period (``view.reach()``: an elliptic or backward mode is
+    largest at another phase than 0) and the arrows' tails and tips at their points' reach."""
+    low, high = view.reach()
+    arrow_low, arrow_high = view.arrow_reach()
+    points = [low, high]
+    for arrow, a, b in zip(view.outline.arrows, arrow_low, arrow_high):
         d = 0.12 * view.outline.size * arrow.direction / np.linalg.norm(arrow.direction)
-        ends = np.asarray([arrow.point - d, arrow.point] if arrow.kind == "excitation" else [arrow.point, arrow.point + d])
-        pairs.append((ends, np.broadcast_to(motion, ends.shape)))
-    reach = [(np.asarray(p, float), np.abs(np.asarray(d, complex))) for p, d in pairs if len(p)]
-    return [p + sign * r for p, r in reach for sign in (-1.0, 1.0)]
+        ends = (-d, np.zeros(3)) if arrow.kind == "excitation" else (np.zeros(3), d)   # as _arrow_segments
+        points += [np.array([a + e, b + e]) for e in ends]
+    return points
 
 
 def _unit_ticks(axis, factor):

@@ -96,7 +96,8 @@ def test_the_memory_of_a_study_without_a_file_does_not_grow_with_its_results(spo
 
 @pytest.mark.skipif(not os.path.isdir("/proc/self/fd"), reason="Linux: /proc/self/fd")
 def test_a_spooled_result_is_the_result_held_in_memory_and_lets_go_of_its_file(spool, tmp_path, monkeypatch):
-    """With failures (negative masses) and every analysis over speed: the same data set, summary,
+    """With failures (polar inertias beyond twice the diametral; a range of negative masses is
+    refused as the study is read) and every analysis over speed: the same data set, summary,
     table and saved file as the results held in memory (``SPOOL_BYTES`` left as it is: 23
     variants stay in memory); a pickled copy carries the values; nothing is left in the
     temporary folder; ``close()``, the end of a ``with`` block and garbage collection let go of
@@ -105,8 +106,8 @@ def test_a_spooled_result_is_the_result_held_in_memory_and_lets_go_of_its_file(s
     import rotordyn_modal.study as study
 
     model = rdm.load_model(EXAMPLE)
-    spec = {"seed": 5, "samples": 23, "parameters": [
-        {"key": "stator.mass", "distribution": "uniform", "low": -40.0, "high": 160.0}],
+    spec = {"seed": 5, "samples": 23, "parameters": [   # beyond 0.32, twice the diametral: refused variant by variant
+        {"key": "rotors.fan.polar_inertia", "distribution": "uniform", "low": 0.1, "high": 0.45}],
         "analyses": {"modes": {"speed_rpm": 1000.0}, "campbell": {"speeds_rpm": "0:3000:7"},
                      "critical_speeds": {}, "stability": {"speeds_rpm": "0:3000:5"}}}
     monkeypatch.setattr(study, "SPOOL_BYTES", 256 * 2**20)

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, ModelWarning
 from ..model._table import LARGEST
 
 __all__ = ["MachineOutline", "Body", "Spring", "Arrow", "machine_outline", "ModeShape3D", "mode_shape_3d",
@@ -117,17 +117,25 @@ def machine_outline(model, outline=None) -> MachineOutline:
     ----------
     model : Model
     outline : array_like, shape (n_points, 3), optional
-        The stator's outline as polylines [m], model axes; rows of NaN separate the lines.
+        The stator's outline as polylines [m], model axes; rows of NaN separate the lines
+        (``rotordyn_modal.io.outline.read_outline`` reads a file of them and names it).
 
     Returns
     -------
     MachineOutline
+
+    Warns
+    -----
+    ModelWarning
+        An outline more than 30 times wider than the machine's own drawing: a drawing's
+        millimetres or inches read as metres (:func:`outline_scale_words`).
     """
     axis = np.asarray(model.spin_axis, dtype=float)
     bodies = [_rotor_body(model, rotor, axis) for rotor in model.rotors]
     brackets = np.zeros((0, 2, 3))
     if outline is not None:
         bodies.insert(0, _outline_body(outline))
+        _warn_wide_outline(outline, model)
     elif model.stator is not None:
         box = _stator_box(model.stator)
         bodies.insert(0, box)
@@ -146,6 +154,43 @@ def machine_outline(model, outline=None) -> MachineOutline:
                             np.asarray(x.direction, float)) for x in model.excitations if x.kind == "force"])
     return MachineOutline(bodies=tuple(bodies), brackets=brackets, bracket_body=_holder(model), springs=springs,
                           arrows=arrows, size=size, spin_axis=axis)
+
+
+#: an outline this many times wider than the machine it draws was most likely typed in another unit
+_WIDER = 30.0
+
+
+def _warn_wide_outline(outline, model) -> None:
+    """One warning for an outline far wider than the machine's own drawing (bodies, mounts,
+    bearings, the stator box): said here, where the command line and the Python API meet."""
+    import warnings
+
+    words = outline_scale_words(outline, machine_outline(model).size, getattr(outline, "source", None))
+    if words:
+        warnings.warn(words, ModelWarning, stacklevel=4)
+
+
+def outline_scale_words(points, machine_size: float, path) -> str | None:
+    """The warning for an outline far wider than the machine (a drawing's millimetres or inches
+    read as metres, no unit in its header: the machine shrinks to a dot in the figure), else None.
+
+    Parameters
+    ----------
+    points : ndarray, shape (n, 3)
+        The outline's points [m] (NaN rows between lines).
+    machine_size : float
+        The largest extent of the machine's own drawing [m] (bodies, mounts, bearings).
+    path : path-like or None
+        The file, for the words (None: an outline given as an array).
+    """
+    drawn = np.asarray(points, float)
+    drawn = drawn[~np.isnan(drawn).any(axis=1)]
+    size = float(np.max(np.ptp(drawn, axis=0))) if len(drawn) else 0.0
+    if not machine_size > 0 or not size > _WIDER * machine_size:
+        return None
+    return (f"{str(path) + ': ' if path else ''}the outline spans {size:.4g} m, {size / machine_size:.3g} times the machine it draws "
+            f"({machine_size:.4g} m: its bodies, mounts and bearings); coordinates in mm or inches read as metres? "
+            "(a unit in the header converts them: 'x [mm]', 'y [in]')")
 
 
 def _holder(model):
@@ -375,6 +420,32 @@ class ModeShape3D:
         points = [displaced(a.point, d, phase) for a, d in zip(self.outline.arrows, self.arrow_motion)]
         return np.asarray(points, float).reshape(-1, 3)
 
+    def reach(self):
+        """How far the drawing goes over one period: for each drawn point (bodies' vertices,
+        brackets, springs' ends), its lowest and highest coordinates over every phase. A point
+        at ``p + Re(d exp(i phi))`` reaches ``p_k - |d_k|`` and ``p_k + |d_k|`` in each
+        coordinate ``k`` and no further, whatever the ellipse it whirls on.
+
+        Returns
+        -------
+        low, high : ndarray, shape (n, 3) [m]
+        """
+        points = [b.vertices for b in self.outline.bodies] + [np.reshape(self.outline.brackets, (-1, 3))]
+        motions = [np.asarray(d, complex) for d in self.body_motion] + [np.reshape(self.bracket_motion, (-1, 3))]
+        for spring, motion in zip(self.outline.springs, self.spring_motion):
+            points += [np.reshape(spring.point_a, (1, 3)), np.reshape(spring.point_b, (1, 3))]
+            motions += [motion[:1], motion[1:]]
+        return _reach(points, motions)
+
+    def arrow_reach(self):
+        """:meth:`reach` of each sensor's and excitation's point (in ``outline.arrows``' order).
+
+        Returns
+        -------
+        low, high : ndarray, shape (n_arrows, 3) [m]
+        """
+        return _reach([np.reshape([a.point for a in self.outline.arrows], (-1, 3))], [np.reshape(self.arrow_motion, (-1, 3))])
+
     def orbit_points(self):
         """The points whose whirl orbits the figures trace, and their complex displacements: each
         rotor's axis ends (its cylinder's two centres), a shaft line's two ends, the stator box's
@@ -427,6 +498,14 @@ class ModeShape3D:
         from ..plotting.shapes3d import animate_mode_shape
 
         return animate_mode_shape(self, path, **kwargs)
+
+
+def _reach(points, motions):
+    """``(low, high)``, each shape (n, 3) [m]: ``p -+ |d|`` of the stacked ``points`` and their
+    complex ``motions`` (lists of (m, 3) arrays)."""
+    p = np.concatenate([np.asarray(x, float).reshape(-1, 3) for x in points])
+    d = np.abs(np.concatenate([np.asarray(x, complex).reshape(-1, 3) for x in motions]))
+    return p - d, p + d
 
 
 def displaced(points, motion, phase: float) -> np.ndarray:

@@ -123,22 +123,6 @@ def modal(model, speed):
     return compute(model, speed)
 
 
-def _warn_outline_scale(outline, model, args) -> None:
-    """Warn (one line) of an outline far wider than the machine: a unit mistake that leaves the
-    machine a dot in the figure (io.outline.outline_scale_words)."""
-    if outline is None:
-        return
-    import warnings
-
-    from ..analysis.mode_shapes import machine_outline
-    from ..errors import ModelWarning
-    from ..io.outline import outline_scale_words
-
-    words = outline_scale_words(outline, machine_outline(model).size, args.outline)
-    if words:
-        warnings.warn(words, ModelWarning, stacklevel=2)
-
-
 def run(args) -> int:
     from ..analysis._work import refuse_long_work
     _check_shape_options(args)
@@ -146,7 +130,6 @@ def run(args) -> int:
     model = open_model(args)
     speed = speed_value(args.speed, args.speed_unit, "--speed")
     outline = read_outline(args.outline) if args.outline else None   # refused before the solve
-    _warn_outline_scale(outline, model, args)
     measured = _measured_modes(args, model)                           # refused before the solve too
     # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours;
     # the estimate is the sweeps' (analysis/_cost.py), modal's solve run with one BLAS thread as theirs

@@ -7,13 +7,23 @@ brackets if it is not in metres (``X [mm]``, ``y (in)``).
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..errors import InputError
 from ..model._table import visible_names
 
-__all__ = ["read_outline", "outline_scale_words"]
+__all__ = ["read_outline", "outline_scale_words", "OutlinePoints"]
 
-#: an outline this many times wider than the machine it draws was most likely typed in another unit
-_WIDER = 30.0
+
+class OutlinePoints(np.ndarray):
+    """:func:`read_outline`'s points: an ndarray of shape (n, 3) [m] that also names its file
+    (``source``), so that the warning of an outline far wider than the machine, given where
+    the outline is drawn (``rotordyn_modal.analysis.mode_shapes.machine_outline``), names it."""
+
+    source: str | None = None
+
+    def __array_finalize__(self, obj):
+        self.source = getattr(obj, "source", None)
 
 _COLUMNS = ("x", "y", "z")
 _LENGTHS = "m, cm, mm, um, in, mil or ft"
@@ -28,8 +38,11 @@ def read_outline(path):
 
     Returns
     -------
-    ndarray of float, shape (n, 3)
+    OutlinePoints, shape (n, 3)
         ``x, y, z`` [m] in model axes; a row of NaN (the file's empty row) between two polylines.
+        An ndarray whose ``source`` is ``str(path)``: the drawing that takes it
+        (``mode_shape_3d(..., outline=...)``, ``machine_outline``) warns, naming the file, of an
+        outline more than 30 times wider than the machine (millimetres read as metres).
 
     Raises
     ------
@@ -51,6 +64,8 @@ def read_outline(path):
         _outline_body(points)
     except InputError as error:   # the same rule, said with the file's name
         raise InputError(f"{path}: {error}") from None
+    points = points.view(OutlinePoints)
+    points.source = str(path)
     return points
 
 
@@ -118,25 +133,9 @@ def _columns(table, path):
 
 
 def outline_scale_words(points, machine_size: float, path) -> str | None:
-    """The warning for an outline far wider than the machine (a drawing's millimetres or inches
-    read as metres, no unit in its header: the machine shrinks to a dot in the figure), else None.
+    """The warning for an outline far wider than the machine, else None:
+    :func:`rotordyn_modal.analysis.mode_shapes.outline_scale_words`, which ``machine_outline``
+    says (the command line and the Python API alike)."""
+    from ..analysis.mode_shapes import outline_scale_words as words
 
-    Parameters
-    ----------
-    points : ndarray, shape (n, 3)
-        :func:`read_outline`'s points [m] (NaN rows between lines).
-    machine_size : float
-        The largest extent of the machine's own drawing [m] (bodies, mounts, bearings).
-    path : path-like
-        The file, for the words.
-    """
-    import numpy as np
-
-    drawn = np.asarray(points, float)
-    drawn = drawn[~np.isnan(drawn).any(axis=1)]
-    size = float(np.max(np.ptp(drawn, axis=0))) if len(drawn) else 0.0
-    if not machine_size > 0 or not size > _WIDER * machine_size:
-        return None
-    return (f"{path}: the outline spans {size:.4g} m, {size / machine_size:.3g} times the machine it draws "
-            f"({machine_size:.4g} m: its bodies, mounts and bearings); coordinates in mm or inches read as metres? "
-            "(a unit in the header converts them: 'x [mm]', 'y [in]')")
+    return words(points, machine_size, path)

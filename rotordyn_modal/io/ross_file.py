@@ -38,6 +38,9 @@ _REFUSED = {
                               "give its equivalent coefficients as a BearingElement",
 }
 _RAD_S_TO_RPM = 30.0 / math.pi
+#: what ``import-ross`` reads, said when a file is something else
+ROSS_SAVE = ("a rotor saved by ROSS's Rotor.save('NAME.toml'): one TOML file of tables 'ShaftElement_<tag>', "
+             "'DiskElement_<tag>', 'BearingElement_<tag>', ... as ROSS 0.4 to 3.1 write it (docs/ross.md)")
 
 
 #: the rotor's name when neither ``--name`` nor the file's name gives one (a pipe)
@@ -82,7 +85,7 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
         coefficients, a point mass, a magnetic bearing, mixed shear options.
     """
     source = str(path)
-    data = read_toml(path, "ROSS rotor file")
+    data = _read_ross_data(path)
     elements = _elements(source, data)
     _check_parameters(source, data)
     named = not without_name(source)
@@ -91,12 +94,18 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
     sections, shear, node_z = _shaft(source, elements.get("ShaftElement", []), materials)
     rotor = {"name": rotor_name, "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0, "shear": shear,
              "shaft": sections}
-    disks = _disks(source, elements.get("DiskElement", []), node_z)
+    pchip: list = []
+    try:
+        disks = _disks(source, elements.get("DiskElement", []), node_z)
+        bearings = [_bearing(source, key, table, node_z, rotor_name, pchip)
+                    for cls in BEARING_CLASSES for key, table in elements.get(cls, [])]
+    except ModelError as error:   # a node beyond the shaft: say so when a repeated n shortened it
+        note = _repeated_note(elements.get("ShaftElement", []), node_z) if error.where.endswith("] n") else ""
+        if not note or not error.expected.startswith("a node of the shaft"):
+            raise
+        raise ModelError(source, error.where, error.value, error.expected + note) from None
     if disks:
         rotor["disks"] = disks
-    pchip: list = []
-    bearings = [_bearing(source, key, table, node_z, rotor_name, pchip)
-                for cls in BEARING_CLASSES for key, table in elements.get(cls, [])]
     _warn_pchip(source, pchip)
     bearings.sort(key=lambda b: b["axial_position"])
     version = data.get("ross_version", "unknown")
@@ -104,6 +113,52 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
               "file read from standard input" if source in ("/dev/stdin", "-") else "file read from a pipe")
     return {"name": f"{rotor_name} (ROSS {version} {origin})", "spin_axis": [0.0, 0.0, 1.0],
             "materials": list(materials.values()), "rotors": [rotor], "bearings": bearings}
+
+
+def _read_ross_data(path) -> dict:
+    """The TOML tables of ``path``, or one line saying what the file is instead and what is
+    read: a JSON file (ROSS 2.1 and later save JSON when the name ends in ``.json``), text that
+    is no TOML, an empty or binary file."""
+    try:
+        return read_toml(path, "ROSS rotor file")
+    except ModelError as error:
+        if error.where != "<file>" or not (error.expected == "valid TOML" or "TOML" in error.expected
+                                            and error.expected.startswith(("UTF-8", "a ROSS rotor file"))):
+            raise   # a missing file, a folder, an unreadable one: said as for any input
+        if error.expected == "valid TOML":
+            value, expected = _not_toml(path, error.value)
+        elif error.expected.startswith("UTF-8"):   # 'byte 24': a binary file (a spreadsheet, a pickle)
+            value, expected = f"{error.value}: no UTF-8 text", ROSS_SAVE
+        else:
+            value, expected = error.value, ROSS_SAVE
+        raise ModelError(error.source, "<file>", value, expected) from None
+
+
+def _not_toml(path, problem: str) -> tuple:
+    """What a file that is no TOML holds, and what is expected instead: ``(value, expected)``
+    of the message. JSON is recognised in a file that can be read again (not a pipe)."""
+    import json
+
+    from .limits import read_limited
+    from .text import decode_text
+
+    document = None
+    if Path(path).is_file():
+        try:
+            document = json.loads(decode_text(read_limited(path, "model", "ROSS rotor file")))
+        except (ValueError, OSError, RecursionError):
+            document = None
+    if isinstance(document, dict) and any(str(key).startswith("ShaftElement_") for key in document):
+        name = Path(path).stem
+        return ("a rotor saved by ROSS as JSON (Rotor.save('NAME.json'), ROSS 2.1 and later)",
+                f"its TOML save, which import-ross reads: in ROSS, Rotor.load('{name}.json').save('{name}.toml') "
+                "writes it (docs/ross.md)")
+    if isinstance(document, dict):
+        keys = ", ".join(shown_text(str(key)) for key in list(document)[:4]) + (", ..." if len(document) > 4 else "")
+        return f"JSON, not TOML (keys {keys})" if document else "JSON, not TOML (an empty object)", ROSS_SAVE
+    if document is not None:
+        return f"JSON, not TOML (a {type(document).__name__})", ROSS_SAVE
+    return f"no TOML: {problem}", ROSS_SAVE
 
 
 def check_description(description: dict, source) -> None:
@@ -199,8 +254,11 @@ def model_text(description: dict) -> str:
 def _elements(source: str, data: dict) -> dict[str, list]:
     """The file's element tables grouped by ROSS class, in file order: ``{class: [(key, table)]}``."""
     if "ShaftElement" not in {key.split("_")[0] for key in data}:
-        raise ModelError(source, "<file>", "no ShaftElement tables",
-                         "a rotor saved by ROSS's Rotor.save (tables named 'ShaftElement_<tag>', ...)")
+        if {"rotors", "stator"} & set(data):   # this package's own model file: nothing to import
+            raise ModelError(source, "<file>", "a model file of rotordyn-modal (no ShaftElement tables)",
+                             f"{ROSS_SAVE}; a model file is read as it is: rotordyn-modal check {source}")
+        keys = ", ".join(shown_text(str(key)) for key in list(data)[:4]) + (", ..." if len(data) > 4 else "")
+        raise ModelError(source, "<file>", f"no ShaftElement tables (keys {keys})", ROSS_SAVE)
     grouped: dict[str, list] = {}
     for key, table in data.items():
         if key in ("parameters", "ross_version") or key.startswith("_"):
@@ -262,8 +320,7 @@ def _shaft(source: str, shafts: list, materials: dict) -> tuple[list, str, list]
         shears[key] = _element_options(source, key, table)
     missing = sorted(set(range(max(spans) + 1)) - set(spans))
     if missing:
-        raise ModelError(source, "ShaftElement n", missing[0], f"consecutive nodes 0..{max(spans)} "
-                         "(no shaft element starts at this node)")
+        _refuse_gap(source, spans, missing[0])
     if len(set(shears.values())) > 1:
         first = next(iter(shears))
         other = next(k for k, v in shears.items() if v != shears[first])
@@ -279,11 +336,43 @@ def _shaft(source: str, shafts: list, materials: dict) -> tuple[list, str, list]
             length = _get(source, other_key, other, "L")
             if abs(length - section["length"]) > 1e-9 * section["length"]:
                 raise ModelError(source, f"[{other_key}] L", length, f"the length {section['length']!r} of "
-                                 f"[{key}], which starts at the same node {n} (parallel elements)")
+                                 f"[{key}], which starts at the same node n = {n}: a repeated n is a parallel "
+                                 "element over the same span, as in ROSS (or give the element the n of its own "
+                                 "first node)")
             section.setdefault("layers", []).append(_tube(source, other_key, other, materials))
         sections.append(section)
         node_z.append(node_z[-1] + section["length"])
     return sections, next(iter(shears.values())), node_z
+
+
+def _refuse_gap(source: str, spans: dict, gap: int) -> None:
+    """Refuse shaft elements that leave node ``gap`` without an element starting there, naming
+    the element whose repeated ``n`` most likely took its place (ROSS would join no element to
+    that node: two pieces of shaft; a repeated ``n`` is a parallel element there and in ROSS)."""
+    last = max(spans)
+    repeated = sorted(n for n, group in spans.items() if len(group) > 1)
+    if not repeated:
+        raise ModelError(source, "ShaftElement n", gap, f"consecutive nodes 0..{last} "
+                         "(no shaft element starts at this node)")
+    n = max([r for r in repeated if r < gap] or repeated)
+    first, again = spans[n][0][0], spans[n][-1][0]
+    raise ModelError(source, f"[{again}] n", n, f"each node 0..{last} to start a shaft element: n = {n} is "
+                     f"repeated ([{first}] starts there too; a repeated n is a parallel element over the same "
+                     f"span, as in ROSS) and no shaft element starts at node {gap}")
+
+
+def _repeated_note(shafts: list, node_z: list) -> str:
+    """Why the shaft ends where it does when some shaft elements repeat an ``n``: words added to
+    the message of a disk or bearing beyond its last node (ROSS: 'outside shaft'), or ''."""
+    starts: dict = {}
+    for key, table in shafts:
+        starts.setdefault(table.get("n"), []).append(key)
+    repeated = [(n, keys) for n, keys in starts.items() if len(keys) > 1]
+    if not repeated:
+        return ""
+    n, keys = repeated[-1]
+    return (f"; the shaft's last node is {len(node_z) - 1} because n = {n} is repeated ([{keys[0]}] and "
+            f"[{keys[-1]}]: a repeated n is a parallel element over the same span, as in ROSS)")
 
 
 def _element_options(source: str, key: str, table: dict) -> str:

@@ -135,6 +135,7 @@ def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=
         check_not_input(Path(path), inputs)
     fig = plot_mode_shape(view, units=units)
     ax, flat = fig.axes[0], list(zip(fig.axes[1:4], [pair for _, pair in _PROJECTIONS]))
+    _frame(ax, flat, view, units, cycle=True)   # held by every frame: an elliptic mode is largest elsewhere
     phases = 2 * np.pi * np.arange(int(frames)) / int(frames)
 
     def update(k):
@@ -889,12 +890,13 @@ def _label_arrows(ax, view, phase):
     ax.add_artist(layout)
 
 
-def _frame(ax, flat, view, units="si", phase=None):
+def _frame(ax, flat, view, units="si", phase=None, cycle=False):
     """Limits, labels and ticks of the 3D axes ``ax`` and its projections ``flat``: one cube
     around the machine at rest and, given ``phase`` [rad], its displaced drawing at that phase
-    (a displaced body beyond the outline is drawn whole, not cut at the frame's edge), with a
-    margin of 0.15 of the outline's size."""
-    points = np.concatenate(_frame_points(view, phase))
+    (a displaced body beyond the outline is drawn whole, not cut at the frame's edge), or with
+    ``cycle`` at every phase of the period (an animation: :func:`_cycle_points`), with a margin
+    of 0.15 of the outline's size."""
+    points = np.concatenate(_frame_points(view, phase) + (_cycle_points(view) if cycle else []))
     low, high = points.min(axis=0), points.max(axis=0)
     centre, half = 0.5 * (low + high), 0.5 * (high - low).max() + 0.15 * view.outline.size
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre):
@@ -930,6 +932,20 @@ def _frame_points(view, phase=None):
         points += [np.asarray(b, float).reshape(-1, 3) for b in view.brackets_at_phase(phase)]
         points += [np.asarray(pair, float).reshape(-1, 3) for pair in view.springs_at_phase(phase)]
     return [p for p in points if len(p)]
+
+
+def _cycle_points(view):
+    """Corners [m] of the box every phase of the period stays in, a list of (n, 3) arrays: each
+    drawn point's reach over the period (``view.reach()``: an elliptic or backward mode is
+    largest at another phase than 0) and the arrows' tails and tips at their points' reach."""
+    low, high = view.reach()
+    arrow_low, arrow_high = view.arrow_reach()
+    points = [low, high]
+    for arrow, a, b in zip(view.outline.arrows, arrow_low, arrow_high):
+        d = 0.12 * view.outline.size * arrow.direction / np.linalg.norm(arrow.direction)
+        ends = (-d, np.zeros(3)) if arrow.kind == "excitation" else (np.zeros(3), d)   # as _arrow_segments
+        points += [np.array([a + e, b + e]) for e in ends]
+    return points
 
 
 def _unit_ticks(axis, factor):

@@ -275,11 +275,13 @@ def _parameter(item, i, source, model) -> Parameter:
         apply = "value" if grid_keys[0] == "values" else "scale"
         parameter = Parameter(name=name, keys=keys, apply=apply, grid=grid)
         _check_keys(parameter, grid[0], model, where, source)
+        _check_range(parameter, model, _grid_ends(grid, item, grid_keys[0]), where, source)
         return parameter
     if "distribution" not in item:
         raise StudyError(source, where, sorted(item), "one of values, scale (a grid) or distribution")
     parameter = _distribution(item, name, keys, where, source)
     _check_keys(parameter, parameter.frozen().median(), model, where, source)
+    _check_range(parameter, model, _distribution_ends(parameter, item), where, source)
     return parameter
 
 
@@ -374,6 +376,89 @@ def _check_keys(parameter, number, model, where, source):
             (set_value if parameter.apply == "value" else scale_value)(data, key, float(number), model.source)
         except InputError as error:
             raise StudyError(source, f"{where} key", key, f"a dotted key of the model ({error})") from None
+
+
+def _grid_ends(grid, item, grid_key) -> list:
+    """The smallest and largest point of a grid, each as ``(number, study key, its value)``."""
+    return [(float(number), grid_key, item[grid_key]) for number in sorted({float(grid.min()), float(grid.max())})]
+
+
+def _distribution_ends(parameter, item) -> list:
+    """The finite ends of the numbers a distribution can draw, each as ``(number, study key, its
+    value)``: a number just inside the end (the end itself is drawn with probability 0, so
+    ``low = 0`` or ``truncate = [0, inf]`` keep a mass positive). An unbounded side (a normal
+    distribution without ``truncate``) has no end to check."""
+    low, high = (float(v) for v in parameter.frozen().support())
+    if parameter.distribution == "uniform":
+        keys = {side: (side, item.get(side)) for side in ("low", "high")}
+    else:   # a lognormal's 0
+        keys = dict.fromkeys(("low", "high"), ("distribution", item.get("distribution")))
+    if parameter.truncate is not None and parameter.truncate[0] > low:
+        low, keys["low"] = parameter.truncate[0], ("truncate", item.get("truncate"))
+    if parameter.truncate is not None and parameter.truncate[1] < high:
+        high, keys["high"] = parameter.truncate[1], ("truncate", item.get("truncate"))
+    ends = []
+    for end, other, side in ((low, high, "low"), (high, low, "high")):
+        if math.isfinite(end):
+            ends.append((float(np.nextafter(end, other)), *keys[side]))
+    return ends
+
+
+def _check_range(parameter, model, ends, where, source):
+    """Refuse, as the study file is read, a range (grid points, a distribution's bounds) that turns
+    a number of the base model at the parameter's keys to zero or below (a value set to it, a
+    positive number multiplied by a factor <= 0) where the model refuses that (a mass, a
+    stiffness): every variant drawn there would fail. Keys whose numbers may be negative (a
+    position, a cross-coupled stiffness) pass, as the model takes them; so does a number the
+    model refuses whatever its sign (left to the variants, where other parameters may change
+    what it depends on).
+
+    Parameters
+    ----------
+    parameter : Parameter
+    model : Model or None
+        The base model (None: nothing is checked).
+    ends : list of (float, str, object)
+        Numbers the parameter takes at the ends of its range, with the study file's key and its
+        value that set them (:func:`_grid_ends`, :func:`_distribution_ends`).
+    where : str
+        ``[[parameters]] N``.
+    source : str
+    """
+    if model is None:
+        return
+    for number, study_key, shown in ends:
+        turned = [key for key in parameter.keys if _turns_non_positive(model.get(key), parameter.apply, number)]
+        error = _refusal(model, parameter, number) if turned else None
+        if error is None or (number != 0 and _refusal(model, parameter, abs(number)) is not None):
+            continue
+        what = "factor" if parameter.apply == "scale" else "value"
+        raise StudyError(source, f"{where} {study_key}", shown,
+                         f"a range of parameter {parameter.name!r} over which the model takes {', '.join(turned)} "
+                         f"(no variant was run): at the {what} {number:.6g}, {error}")
+
+
+def _refusal(model, parameter, number):
+    """The model's error for the base model with the parameter at ``number``, or None."""
+    import warnings
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            model.variant([(key, parameter.apply, number) for key in parameter.keys])
+    except InputError as error:
+        return error
+    return None
+
+
+def _turns_non_positive(current, apply: str, number: float) -> bool:
+    """Whether setting (``apply="value"``) or multiplying (``"scale"``) ``current`` (a number or a
+    nested list of numbers) by ``number`` gives zero or below where it was above zero (a set value
+    <= 0 at all)."""
+    if apply == "value":
+        return number <= 0
+    values = np.asarray(current, dtype=float).ravel()
+    return number <= 0 and bool(np.any(values > 0))
 
 
 def _holds_array(data, key, model_source) -> bool:

@@ -60,7 +60,7 @@ def _continued(pencils, guesses, vectors, rows):
     S, k, n = vectors.shape
     index = np.repeat(np.asarray(rows), k)
     lam, x = guesses.reshape(-1), vectors.reshape(-1, n)          # read only: the chord's results are new arrays
-    chord = pencils.newton_chord(index, lam, x, x.conj(), _STEP)
+    chord = pencils.newton_chord(index, lam, x, None, _STEP)       # c = conj(x), made a part at a time
     if chord is None:
         return _refined(pencils, guesses, vectors, rows)
     lam, x, first, second, slope = chord

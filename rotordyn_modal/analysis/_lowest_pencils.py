@@ -152,7 +152,8 @@ class _Pencils:
 
     def newton_chord(self, index, lam, x, c, done):
         """One Newton step and one chord step (the same factorisation) from roots ``lam`` (P,) with
-        vectors ``x`` (P, n), the scale fixed by ``c`` (P, n) as in ``_lowest_newton._refined``; no
+        vectors ``x`` (P, n), the scale fixed by ``c`` (P, n; None: ``conj(x)``, made a chunk at a
+        time, the start's own length reused) as in ``_lowest_newton._refined``; no
         chord step where the Newton step is at most ``done`` times ``|s_1|`` (Newton's own
         rule for a root at round-off, ``_lowest_newton._STEP``: its second solve and residual are not
         needed).
@@ -183,6 +184,9 @@ class _Pencils:
                 or _lapack("zgbtrs") is None:
             return None
         width = 2 * band.lower + band.upper + 1
+        if c is None:
+            chord = functools.partial(self._banded_chord, c=None, done=done)
+            return _batches._threaded(chord, index, lam, x, item_bytes=16 * n * (width + 4))
         chord = functools.partial(self._banded_chord, done=done)
         return _batches._threaded(chord, index, lam, x, c, item_bytes=16 * n * (width + 4))
 
@@ -194,16 +198,20 @@ class _Pencils:
         width = 2 * band.lower + band.upper + 1
         lam_out, x_out = np.empty(len(lam), complex), np.empty(x.shape, complex)
         first, second, slope = np.empty(len(lam)), np.empty(len(lam)), np.empty(len(lam))
+        same = c is None
         for part in _batches.chunk_slices(len(lam), 16 * n * (width + 4), budget=2**24):
-            rows, s0, x0, cc = index[part], lam[part], x[part], c[part]
+            rows, s0, x0 = index[part], lam[part], x[part]
+            cc = x0.conj() if same else c[part]
             ab, _ = self._band_storage(rows, s0)
             pivots = np.empty((len(s0), n), np.int32)
             factored = _factored(band.lower, band.upper, ab, pivots)
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                 derivative = self.derivative_times(rows, s0, x0)
+                start = cc if same else x0.conj()
                 u = self._chord_solve(ab, pivots, factored, derivative)
                 cu = np.einsum("pi,pi->p", cc, u)
-                step = np.einsum("pi,pi->p", cc, x0) / cu
+                scale = np.einsum("pi,pi->p", cc, x0)
+                step = scale / cu
                 s1, x1 = s0 - step, u / cu[:, None]
                 # the rows whose Newton step is not yet at round-off take the chord step
                 chord = np.nonzero(~(np.abs(step) <= done * np.abs(s1)))[0]
@@ -216,8 +224,7 @@ class _Pencils:
                 lam_out[part], x_out[part] = s2, x2
                 first[part], second[part] = np.abs(step) / np.abs(s2), 0.0
                 second[part][chord] = np.abs(ds) / np.abs(s2[chord])
-                start = x0.conj()
-                length = np.einsum("pi,pi->p", start, x0).real
+                length = (scale if same else np.einsum("pi,pi->p", start, x0)).real
                 aligned = np.abs(np.einsum("pi,pi->p", start, x2)) ** 2 \
                     >= (1 - _ALIGNED) * length * np.einsum("pi,pi->p", x2.conj(), x2).real
                 slope[part] = np.where(aligned, np.abs(np.einsum("pi,pi->p", start, derivative)) / length, np.nan)

@@ -752,14 +752,16 @@ def _interpolated_shapes(expansions, rows, shapes, found, which=None):
     at = np.arange(len(rows))
     place = found if which is None else np.take_along_axis(found, which[:, None, :], axis=2)   # (R, q, k)
     nearest = shapes[nodes[at, closest][:, None], place[at, closest]]                         # (R, k, n)
-    out = np.zeros(nearest.shape, complex)
+    out, conjugate = np.zeros(nearest.shape, complex), np.empty(nearest.shape, complex)
     for r in range(nodes.shape[1]):
-        shape = shapes[nodes[:, r][:, None], place[:, r]]
-        turn = np.einsum("rki,rki->rk", shape.conj(), nearest)
+        shape = shapes[nodes[:, r][:, None], place[:, r]]                  # a copy: scaled in place
+        turn = np.einsum("rki,rki->rk", np.conjugate(shape, out=conjugate), nearest)
         with np.errstate(divide="ignore", invalid="ignore"):
             turn = np.where(np.abs(turn) > 0, turn / np.abs(turn), 1.0)
-        out += (ex.weights[rows, r][:, None] * turn)[..., None] * shape
-    return np.where(np.isfinite(out).all(axis=2, keepdims=True), out, nearest)
+        out += np.multiply((ex.weights[rows, r][:, None] * turn)[..., None], shape, out=shape)
+    lost = ~np.isfinite(out).all(axis=2)
+    out[lost] = nearest[lost]
+    return out
 
 
 def _expansion_guesses(expansions, rows, values, shapes, ok):

@@ -120,21 +120,26 @@ class CriticalSpeeds:
         return numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, self.speeds, self.mode, eigenvalues,
                                     progress=self._progress)
 
-    def to_dataframe(self):
+    def to_dataframe(self, numbers: bool = True):
         """Table with the command line's columns (``pandas.DataFrame``): ``source, order, mode,
         speed_rpm, frequency_hz, whirl, whirl_ratio, damping_ratio, mode_at_speed`` (``mode`` the
         tracked label, ``mode_at_speed`` the number ``modal(model, speed)`` gives that mode at
-        the row's speed, 0 where it is not a mode there; empty for a table not made by a sweep)."""
+        the row's speed, 0 where it is not a mode there; empty for a table not made by a sweep).
+
+        ``numbers=False`` leaves out ``mode_at_speed``, and the work of it (roots solved at about
+        half the critical speeds: most of a large machine's table) where it was not done yet."""
         import pandas as pd
 
-        numbers = self.mode_at_speed
-        return pd.DataFrame({
+        table = pd.DataFrame({
             "source": self.source, "order": self.order, "mode": self.mode,
             "speed_rpm": self.speeds_rpm, "frequency_hz": self.frequencies_hz,
             "whirl": self.whirl, "whirl_ratio": self.whirl_ratios,
             "damping_ratio": self.damping_ratios,
-            "mode_at_speed": pd.array([pd.NA] * len(self), dtype="Int64") if numbers is None else numbers,
         })
+        if numbers:
+            found = self.mode_at_speed
+            table["mode_at_speed"] = pd.array([pd.NA] * len(self), dtype="Int64") if found is None else found
+        return table
 
 
 def _with_sweep(table: CriticalSpeeds, model, speeds, eigenvalues, progress=False) -> CriticalSpeeds:

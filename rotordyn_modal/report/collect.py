@@ -831,7 +831,8 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
                 + solutions * _cost._PESSIMISTIC * float(n_states) ** 3
                 + 2 * (_render_seconds(model, inputs, crossings, UNTIMED_DRAWING_SECONDS)[0]
                        + _case_seconds(model, cases)))
-    campbell = _report_numbers(_work.estimate(model, speeds, (1,), critical=True, numbers=True))
+    # no mode numbers at the critical speeds (``mode_at_speed``): the report shows none
+    campbell = _work.estimate(model, speeds, (1,), critical=True, numbers=False)
     eig = _work.eig_seconds(campbell.n_states)
     round_off = ROUND_OFF_SECONDS * campbell.crossings * float(campbell.n_states) ** 2
     thresholds = _thresholds_bound(model, inputs)
@@ -885,24 +886,6 @@ def _case_seconds(model, cases) -> float:
     (:data:`CHECK_SECONDS` for the clearances, the same for the proximity probes)."""
     probes = any(s.measure == "relative" for s in model.sensors)
     return cases * CASE_DOF_SECONDS * model.dofs.n + CHECK_SECONDS * (bool(model.clearances) + probes)
-
-
-#: the coordinates from which the report's critical speeds' mode numbers cost what
-#: :func:`..analysis._work.estimate` counts (a share ``_NUMBERS_SHARE`` = 0.5 of the crossings
-#: solved, measured 0.53 at 406 coordinates on 11 speeds); below, the share measured on the
-#: report's 21 speeds falls about as the square root of the coordinates: the mode numbers' CPU
-#: against the count 0.43 at 46 coordinates, 0.65 at 86, 0.74 at 126 (gear chains of 10, 20, 30
-#: rotors; the 30-rotor Campbell part had been counted 53 s against 39 s)
-NUMBERS_FULL_DOF = 250
-
-
-def _report_numbers(work):
-    """``work`` (:func:`..analysis._work.estimate` of the report's sweep) with its mode numbers'
-    part scaled by ``sqrt(n_dof / NUMBERS_FULL_DOF)`` (at most 1): see :data:`NUMBERS_FULL_DOF`."""
-    import dataclasses
-
-    share = min(1.0, float(np.sqrt(work.n_dof / NUMBERS_FULL_DOF)))
-    return dataclasses.replace(work, numbers_seconds=share * work.numbers_seconds)
 
 
 #: stiffness values solved to refine one crossing of a speed-dependent bearing's curve with a
@@ -1332,7 +1315,7 @@ def _critical_numbers(data, result):
     campbell = data.results.get("campbell")
     if campbell is None:
         return []
-    table = campbell.critical.to_dataframe()
+    table = campbell.critical.to_dataframe(numbers=False)
     table = table[np.isclose(table["order"].astype(float), 1.0)]
     nearest = int(np.argmin(np.abs(np.abs(campbell.speeds) - data.inputs.mcs)))
     out = []

@@ -344,7 +344,7 @@ def _campbell(data, units) -> str:
     result = data.results["campbell"]
     from ..analysis._roots import at_round_off
 
-    critical = result.critical.to_dataframe()
+    critical = result.critical.to_dataframe(numbers=False)            # the table shows no mode_at_speed
     # a damping ratio within the solve's round-off (-1.6e-17 of an undamped mode) shows as 0, as in 'modes'
     noise = data.results.get("critical_round_off", np.zeros(len(critical)))
     critical["damping_ratio"] = at_round_off(critical["damping_ratio"].to_numpy(dtype=float), noise)

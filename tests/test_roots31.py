@@ -161,7 +161,7 @@ def test_roots_the_budget_leaves_are_each_named_with_their_error():
     1e-9; the budget (2 eigen-solves a speed from about 540 coordinates) polishes three, and polishing
     all 46 costs 12 to 14 times the eigen-solve. Main warned of modes 4 to 10 only (those over
     1e-6) with one bound for all, and said nothing of modes 11 and 12, 1.0e-7 off a 40-digit solve.
-    Now every mode left over 1e-9 is named with its own bound, at least its error."""
+    Now its line gives every mode left over 1e-9 its own bound, at least its error."""
     import re
 
     from test_exact_roots27p import _cut_shaft

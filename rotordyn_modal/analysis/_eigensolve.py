@@ -1183,15 +1183,15 @@ def polished_ratio_round_off(values, which, bound) -> np.ndarray:
 def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3, oscillating=None, labels=None, values=None):
     """One :class:`~rotordyn_modal.errors.ModelWarning` naming the speeds [rad/s] (N,) and the
     modes whose estimated relative error ``bound`` (N, m) (:func:`pencil_round_off`, after the
-    polish, :func:`refined_pairs`) exceeds :data:`POLISH_LEVEL`, the largest bound, and each named
-    mode's own (its largest over the speeds); nothing where none does. Returns whether it warned.
+    polish, :func:`refined_pairs`) exceeds :data:`INEXACT_LEVEL`, and the largest bound; nothing
+    where none does. Returns whether it warned.
 
-    After the polish every root over :data:`POLISH_LEVEL` is one it left: past its budget a speed
-    (:func:`.polish_budget`: a 624-coordinate shaft with 46 roots to polish keeps 43, modes 4 to 12
-    1e-7 to 3e-5 off), or one its steps did not converge. Such a root is named however small its
-    error, since the promise is 1e-9: the warning once named only those over
-    :data:`INEXACT_LEVEL`, with the largest bound for all, and said nothing of modes 11 and 12 of
-    that shaft, 1e-7 off.
+    It then gives every mode the polish left over :data:`POLISH_LEVEL` its own bound (its largest
+    over the speeds): after the polish each of them is one it left, past its budget a speed
+    (:func:`.polish_budget`) or not converged. A 624-coordinate shaft at 3,000 rpm with 46 roots
+    over 1e-9 keeps 43 (the budget polishes three): the line named modes 4 to 10 with one bound,
+    3.7e-4, for all, and nothing of modes 11 and 12, 1.0e-7 off; it now lists each, mode 4 3.7e-04
+    to mode 12 7.8e-07 and on.
 
     ``oscillating`` (N, m) bool, where given, tells the modes from the real roots (relaxations,
     overdamped pairs: no mode of any table), which are counted apart with their values ``values``
@@ -1202,7 +1202,7 @@ def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3, oscillating=None
     from ..errors import ModelWarning
 
     bound = np.atleast_2d(np.asarray(bound, dtype=float))
-    over = bound > POLISH_LEVEL
+    over = bound > INEXACT_LEVEL
     if not over.any():
         return False
     modes = over if oscillating is None else over & np.atleast_2d(oscillating)
@@ -1216,10 +1216,11 @@ def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3, oscillating=None
     real_text = _real_roots_text(np.atleast_2d(values)[real] if values is not None else None, real.any(axis=0).sum())
     what = (f"mode(s) {numbers}" + (f" and {real_text}" if real.any() else "")) if modes.any() else real_text
     quantity = "frequencies" if modes.any() else "values"
+    left = (bound > POLISH_LEVEL) & (True if oscillating is None else np.atleast_2d(oscillating))    # modes only
     warnings.warn(f"{name + ': ' if name else ''}{what} at {rpm} rpm: {quantity} exact only to about "
                   f"{np.max(bound[over]):.1e} relative (double precision's round-off of a low mode beside stiff "
-                  f"elements, left unpolished{_each_mode_text(bound, modes, labels, named)}; docs/theory.md, "
-                  "\"Close roots\")", ModelWarning, stacklevel=stacklevel)
+                  f"elements{_each_mode_text(bound, left, labels)}; docs/theory.md, \"Close roots\")",
+                  ModelWarning, stacklevel=stacklevel)
     return True
 
 
@@ -1227,17 +1228,18 @@ def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3, oscillating=None
 _EACH_NAMED = 12
 
 
-def _each_mode_text(bound, modes, labels, named) -> str:
-    """': mode 4 3.7e-04, mode 5 3.6e-05, ...': each of the modes ``named`` (their numbers, sorted)
-    with its largest ``bound`` (N, m) where ``modes`` (N, m), ``labels`` (N, m) its number; at most
+def _each_mode_text(bound, modes, labels) -> str:
+    """', left unpolished: mode 4 3.7e-04, mode 5 3.6e-05, ...': each mode where ``modes`` (N, m)
+    (by number, ``labels`` (N, m)) with its largest ``bound`` (N, m) there; at most
     :data:`_EACH_NAMED`, then how many more and their largest; '' without modes."""
+    named = np.unique(labels[modes])
     if not len(named):
         return ""
     worst = [float(np.max(bound[modes & (labels == k)])) for k in named]
     text = ", ".join(f"mode {k} {e:.1e}" for k, e in zip(named[:_EACH_NAMED], worst))
     if len(named) > _EACH_NAMED:
         text += f" and {len(named) - _EACH_NAMED} more up to {max(worst[_EACH_NAMED:]):.1e}"
-    return ": " + text
+    return ", left unpolished: " + text
 
 
 def _real_roots_text(values, count) -> str:

@@ -586,9 +586,9 @@ def _extreme_whirl(basis, total, momentum):
 
 #: a root whose estimated relative error (:func:`pencil_round_off`) exceeds this is polished first
 #: (:func:`refined_pairs`): one part in a million, the sixth significant digit of a frequency, which
-#: the CSV files print and which a comparison of two designs or of a model with a test reads (the
-#: warning, :func:`warn_of_inexact_roots`, names every root the polish leaves over
-#: :data:`POLISH_LEVEL`)
+#: the CSV files print and which a comparison of two designs or of a model with a test reads; and
+#: warned of where the polish leaves one over it (:func:`warn_of_inexact_roots`, which then gives
+#: every mode left over :data:`POLISH_LEVEL` its own bound)
 INEXACT_LEVEL = 1e-6
 #: a root whose estimated relative error (:func:`pencil_round_off`) exceeds this is polished
 #: (:func:`refined_pairs`), within :func:`polish_budget`: the lowest modes' route polishes its roots

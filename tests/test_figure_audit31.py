@@ -3,16 +3,16 @@
 A reader takes a critical speed's label for the circle it stands nearest, its leader line
 notwithstanding: on ``campbell examples/gear_machine.toml --speeds 0:12000:241 --orders 1,2``
 the label '1420' (its leader to the 1420 rpm circle) stood 13 pixels from the 710 rpm circle and
-18.5 from its own, '1554' beside the 777 rpm circle, '498' above-left of the 995 rpm circle;
-rubber_mounts' '1619' and '1776' likewise beside the 809 and 888 rpm circles; compressor_on_journals
-(500:20000:196, orders 1, 2) wrote '18803' right above the 18247 rpm circle.
+18.5 from its own, '1554' 18.4 pixels from the 777 rpm circle, '498' 11 pixels from the 995 rpm
+circle (150 dpi); rubber_mounts' '1619' stood 21 pixels from the 809 rpm circle, 18.5 from its own.
 
 Measured on the drawn figure (150 dpi, as the command line saves it) with exact geometry
 (``label_geometry``), against the result's own critical speeds (``result.critical``), never the
 placer's: for every visible critical-speed label
 
-- its box lies no nearer the centre of another circle than that of its own (leaderless:
-  :data:`NEAREST_OWN` times as far), so that the label names the circle it stands beside;
+- its box lies :data:`NEAREST_OWN` times as far from the centre of every other circle as from its
+  own (at the end of a leader: so, or :data:`BESIDE_POINTS` from it), so that the label names
+  the circle it stands beside;
 - its leader's end lies :data:`NEAREST_OWN` times as far from every other circle's centre as
   from its own;
 - no mode's curve runs through its text but inside its own circle.
@@ -35,6 +35,10 @@ EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 #: a leader's end, or a leaderless label's box, lies this many times as far from any other circle
 #: as from its own (the placer's ``campbell._NEAREST_OWN``, stated here on its own)
 NEAREST_OWN = 1.25
+#: a label at the end of a leader within this many points of another circle, and less than
+#: NEAREST_OWN times as far from its own, reads as that circle's (a label without a leader stands
+#: 4 points from its circle's centre)
+BESIDE_POINTS = 11.0
 #: the circles: 6 points across
 _CIRCLE_POINTS = 6.0
 
@@ -100,8 +104,9 @@ def misread_labels(fig, ax, critical):
         if not len(others):
             continue
         nearest = others[np.argmin(to_box[others])]
-        factor = NEAREST_OWN if leader is None else 1.0
-        if to_box[nearest] < factor * to_box[own].min():
+        least = NEAREST_OWN * to_box[own].min() if leader is None \
+            else min(NEAREST_OWN * to_box[own].min(), BESIDE_POINTS * fig.dpi / 72.0)
+        if to_box[nearest] < least:
             problems.append(f"'{text.get_text()}' stands {to_box[nearest]:.1f} px from the {words[nearest]} circle, "
                             f"{to_box[own].min():.1f} px from its own")
         if leader is not None:
@@ -119,7 +124,8 @@ FIGURES = [
     ("gear_machine", (0.0, 12000.0, 241), (1, 2)),             # the audit's 36 critical speeds
     ("gear_machine", (0.0, 3000.0, 301), (1, 2)),              # README quick start
     ("rubber_mounts", (0.0, 12000.0, 241), (1, 2)),
-    ("compressor_on_journals", (500.0, 20000.0, 196), (1, 2)),
+    # a guard (passes on 3f1536ec too): the clustered 2X and 1X crossings of modes 5-8
+    pytest.param("compressor_on_journals", (500.0, 20000.0, 196), (1, 2), id="compressor_on_journals-guard"),
 ]
 
 

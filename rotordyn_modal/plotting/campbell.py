@@ -49,8 +49,11 @@ _SHARED_COLOUR = "0.15"
 _MARKER_POINTS = 6
 #: a leader's end lies at least this many times as far from any other circle's centre as from its own
 _NEAREST_OWN = 1.25
-#: a leader's label box lies at least this many times as far from any other circle's centre as from its own
-_NEAREST_OWN_BOX = 1.0
+#: a label at the end of a leader lies :data:`_NEAREST_OWN` times as far from any other circle's
+#: centre as from its own circle's, or at least this far [points] from it: a label nearer (a label
+#: without a leader stands 4 points from its circle's centre) reads as that circle's speed, its
+#: leader notwithstanding
+_BESIDE_POINTS = 11.0
 #: where no box beside a critical speed's marker has a leader crossing no mode's curve, boxes
 #: across it, this much of their width left of it (:func:`._labels.boxes_around`)
 _STRADDLE = (0.1, 0.3, 0.5, 0.7, 0.9)
@@ -928,9 +931,9 @@ class _CampbellLabels:
         margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
         frame = (margin_u, margin_v, 1 - margin_u, 1 - margin_v)
 
-        def free(box, factor=_NEAREST_OWN):
+        def free(box, leader=False):
             return self.curves.free(box, keep) and not crosses_any(self.leader_lines, [box]) \
-                and (not own_nearest or self._nearest_own(box, anchor, markers, factor))
+                and (not own_nearest or self._nearest_own(box, anchor, markers, leader))
 
         box = first_free_box(near, placed, gap, frame, obstacles=markers, allowed=free)
         if box is not None:
@@ -953,7 +956,7 @@ class _CampbellLabels:
             # across curves (the last resort) only where it would not pass a neighbour that close
             start = nearest_in(box, anchor)
             end = self._short_of(start, anchor, clear_px) if drawn else anchor
-            return free(box, _NEAREST_OWN_BOX) and not crosses_any([(start, anchor)], others) \
+            return free(box, leader=True) and not crosses_any([(start, anchor)], others) \
                 and not crosses_segments(start, anchor, self.leader_lines) \
                 and not crosses_any([(start, end)], markers) \
                 and self._ends_nearest(self._short_of(start, anchor, clear_px), markers, clear_px)
@@ -1029,21 +1032,24 @@ class _CampbellLabels:
         dv = ((boxes[:, 1] + boxes[:, 3]) / 2 - end[1]) / self.to_v
         return bool(np.all(np.hypot(du, dv) >= _NEAREST_OWN * clear_px))
 
-    def _nearest_own(self, box, anchor, markers, factor=_NEAREST_OWN):
-        """Whether the label ``box`` (axes fraction) lies :data:`_NEAREST_OWN` times as far from the
-        centre of every one of the ``markers`` (boxes, axes fraction) as from its own circle's
-        centre ``anchor``: a label standing nearer another circle reads as that circle's speed, its
-        leader notwithstanding (gear_machine's '1420' stood 13 pixels from the 710 rpm circle, 18
-        from its own, at the end of its leader; rubber_mounts' '1619' beside the 809 rpm circle)."""
+    def _nearest_own(self, box, anchor, markers, leader=False):
+        """Whether the label ``box`` (axes fraction) reads as naming its own circle (centre
+        ``anchor``) rather than one of the ``markers`` (boxes, axes fraction): without a leader, it
+        lies :data:`_NEAREST_OWN` times as far from every other circle's centre as from its own;
+        with one (``leader``), so, or :data:`_BESIDE_POINTS` from each.
+        gear_machine's '1420' stood 13 pixels (150 dpi) from the 710 rpm circle and 18.5 from its
+        own at the end of its leader, and was read as the 710 rpm circle's speed."""
         if not len(markers):
             return True
         boxes = np.asarray(markers, float).reshape(-1, 4)
         scale = np.array([self.to_u, self.to_v])
         centres = np.column_stack([boxes[:, 0] + boxes[:, 2], boxes[:, 1] + boxes[:, 3]]) / 2 / scale
         low, high = np.array(box[:2]) / scale, np.array(box[2:]) / scale
-        own = float(np.hypot(*np.maximum(np.maximum(low - np.asarray(anchor) / scale, np.asarray(anchor) / scale - high), 0.0)))
+        point = np.asarray(anchor) / scale
+        own = float(np.hypot(*np.maximum(np.maximum(low - point, point - high), 0.0)))
         near = np.hypot(*np.maximum(np.maximum(low - centres, centres - high), 0.0).T)
-        return bool(np.all(near >= factor * own))
+        least = min(_NEAREST_OWN * own, _BESIDE_POINTS * self.points) if leader else _NEAREST_OWN * own
+        return bool(np.all(near >= least))
 
     def _short_of(self, start, centre, clear_px):
         """The end (axes fraction) of a leader line from ``start`` to ``centre`` (axes fraction)

@@ -932,8 +932,8 @@ class _CampbellLabels:
         frame = (margin_u, margin_v, 1 - margin_u, 1 - margin_v)
 
         def free(box, leader=False):
-            return self.curves.free(box, keep) and not crosses_any(self.leader_lines, [box]) \
-                and (not own_nearest or self._nearest_own(box, anchor, markers, leader))
+            return self.curves.free(box, keep) and (not own_nearest or self._nearest_own(box, anchor, markers, leader)) \
+                and not crosses_any(self.leader_lines, [box])
 
         box = first_free_box(near, placed, gap, frame, obstacles=markers, allowed=free)
         if box is not None:
@@ -956,10 +956,10 @@ class _CampbellLabels:
             # across curves (the last resort) only where it would not pass a neighbour that close
             start = nearest_in(box, anchor)
             end = self._short_of(start, anchor, clear_px) if drawn else anchor
-            return free(box, leader=True) and not crosses_any([(start, anchor)], others) \
+            return self._ends_nearest(self._short_of(start, anchor, clear_px), markers, clear_px) \
+                and free(box, leader=True) and not crosses_any([(start, anchor)], others) \
                 and not crosses_segments(start, anchor, self.leader_lines) \
-                and not crosses_any([(start, end)], markers) \
-                and self._ends_nearest(self._short_of(start, anchor, clear_px), markers, clear_px)
+                and not crosses_any([(start, end)], markers)
 
         def cost(box):
             start = nearest_in(box, anchor)
@@ -983,6 +983,7 @@ class _CampbellLabels:
         # own. The square of ANCHOR_POINTS exempts any curve near the anchor: mode 4's line, 7
         # pixels above the circle, was crossed inside it)
         reach = [b for b in grid if distance(b) <= _MOST_COST * h / self.to_v]
+        across = set()
         if own_nearest:
             # boxes across the circle too, their leaders short and steep: between two circles on
             # one mode's line a box at a slant lies nearer the neighbour (counter_rotating's '490'
@@ -991,11 +992,11 @@ class _CampbellLabels:
                 u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v, _PAD_POINTS * self.points,
                 clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT, straddle=_ACROSS)) / to_px).tolist()]
             # (above or below the circle, no curve through them but inside the circle)
-            across = [b for b in across if distance(b) <= _MOST_COST * h / self.to_v
-                      and (b[1] >= v + clear[1] or b[3] <= v - clear[1]) and self.curves.free(b, circle)]
-            reach = sorted(reach + across, key=distance)
-        box = first_free_box(reach, placed, gap, frame, obstacles=markers, allowed=uncrossed, cost=distance,
-                             bound=distance)
+            across = {b for b in across if distance(b) <= _MOST_COST * h / self.to_v
+                      and (b[1] >= v + clear[1] or b[3] <= v - clear[1])}
+            reach = sorted(reach + list(across), key=distance)
+        box = first_free_box(reach, placed, gap, frame, obstacles=markers, cost=distance, bound=distance,
+                             allowed=lambda b: (b not in across or self.curves.free(b, circle)) and uncrossed(b))
         if box is None:
             # boxes across the marker, their leaders short and steep: compressor_rotor's '12938'
             # (0:15000:151) sits on mode 4 between modes 5 and 3, 6 and 8 pixels away; every

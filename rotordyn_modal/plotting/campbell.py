@@ -49,9 +49,17 @@ _SHARED_COLOUR = "0.15"
 _MARKER_POINTS = 6
 #: a leader's end lies at least this many times as far from any other circle's centre as from its own
 _NEAREST_OWN = 1.25
+#: a label at the end of a leader lies :data:`_NEAREST_OWN` times as far from any other circle's
+#: centre as from its own circle's, or at least this far [points] from it: a label nearer (a label
+#: without a leader stands 4 points from its circle's centre) reads as that circle's speed, its
+#: leader notwithstanding
+_BESIDE_POINTS = 11.0
 #: where no box beside a critical speed's marker has a leader crossing no mode's curve, boxes
 #: across it, this much of their width left of it (:func:`._labels.boxes_around`)
 _STRADDLE = (0.1, 0.3, 0.5, 0.7, 0.9)
+#: boxes above or below a critical speed's circle, this much of their width left of it (beyond the
+#: circle's centre either way too: a steep order line through the circle leaves one side free)
+_ACROSS = (-0.2, 0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0, 1.2)
 
 
 #: the critical-speed note keeps at least this many points off the axes' spines
@@ -904,7 +912,7 @@ class _CampbellLabels:
             set_if_changed(text, position=(box[0], box[1] + h / 2), va="center", ha="left", clip_on=True,
                            color=self._colour(self.modes[i], ends[i][2]), visible=True)
 
-    def _label_box(self, anchor, near, gap, placed, markers, clear):
+    def _label_box(self, anchor, near, gap, placed, markers, clear, own_nearest=False):
         """A label's box (axes fraction) and its leader line ((start, end) or None), or (None, None).
 
         The first of the ``near`` boxes (touching the anchor) that lies inside the axes, clear
@@ -913,7 +921,9 @@ class _CampbellLabels:
         grid around the anchor (:func:`boxes_around`) so clear whose distance plus its leader
         line's crossings of curves costs least (at most :data:`_MOST_COST` label heights), the
         leader crossing no label nor any of the ``markers`` and ending ``clear`` (u, v) short of
-        the anchor.
+        the anchor. ``own_nearest`` (critical speeds): every box, and every leader's end, lies
+        :data:`_NEAREST_OWN` times as far from the centre of each of the ``markers`` as from the
+        anchor (:meth:`_nearest_own`).
         """
         u, v = anchor
         keep = (u - ANCHOR_POINTS * self.points * self.to_u, v - ANCHOR_POINTS * self.points * self.to_v,
@@ -921,8 +931,9 @@ class _CampbellLabels:
         margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
         frame = (margin_u, margin_v, 1 - margin_u, 1 - margin_v)
 
-        def free(box):
-            return self.curves.free(box, keep) and not crosses_any(self.leader_lines, [box])
+        def free(box, leader=False):
+            return self.curves.free(box, keep) and (not own_nearest or self._nearest_own(box, anchor, markers, leader)) \
+                and not crosses_any(self.leader_lines, [box])
 
         box = first_free_box(near, placed, gap, frame, obstacles=markers, allowed=free)
         if box is not None:
@@ -945,9 +956,10 @@ class _CampbellLabels:
             # across curves (the last resort) only where it would not pass a neighbour that close
             start = nearest_in(box, anchor)
             end = self._short_of(start, anchor, clear_px) if drawn else anchor
-            return free(box) and not crosses_any([(start, anchor)], others) \
+            return self._ends_nearest(self._short_of(start, anchor, clear_px), markers, clear_px) \
+                and free(box, leader=True) and not crosses_any([(start, anchor)], others) \
                 and not crosses_segments(start, anchor, self.leader_lines) \
-                and not crosses_any([(start, end)], markers) and (not drawn or self._ends_nearest(end, markers, clear_px))
+                and not crosses_any([(start, end)], markers)
 
         def cost(box):
             start = nearest_in(box, anchor)
@@ -971,8 +983,20 @@ class _CampbellLabels:
         # own. The square of ANCHOR_POINTS exempts any curve near the anchor: mode 4's line, 7
         # pixels above the circle, was crossed inside it)
         reach = [b for b in grid if distance(b) <= _MOST_COST * h / self.to_v]
-        box = first_free_box(reach, placed, gap, frame, obstacles=markers, allowed=uncrossed, cost=distance,
-                             bound=distance)
+        across = set()
+        if own_nearest:
+            # boxes across the circle too, their leaders short and steep: between two circles on
+            # one mode's line a box at a slant lies nearer the neighbour (counter_rotating's '490'
+            # between circles 42 pixels either side)
+            across = [tuple(b) for b in (np.array(boxes_around(
+                u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v, _PAD_POINTS * self.points,
+                clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT, straddle=_ACROSS)) / to_px).tolist()]
+            # (above or below the circle, no curve through them but inside the circle)
+            across = {b for b in across if distance(b) <= _MOST_COST * h / self.to_v
+                      and (b[1] >= v + clear[1] or b[3] <= v - clear[1])}
+            reach = sorted(reach + list(across), key=distance)
+        box = first_free_box(reach, placed, gap, frame, obstacles=markers, cost=distance, bound=distance,
+                             allowed=lambda b: (b not in across or self.curves.free(b, circle)) and uncrossed(b))
         if box is None:
             # boxes across the marker, their leaders short and steep: compressor_rotor's '12938'
             # (0:15000:151) sits on mode 4 between modes 5 and 3, 6 and 8 pixels away; every
@@ -1008,6 +1032,25 @@ class _CampbellLabels:
         du = ((boxes[:, 0] + boxes[:, 2]) / 2 - end[0]) / self.to_u
         dv = ((boxes[:, 1] + boxes[:, 3]) / 2 - end[1]) / self.to_v
         return bool(np.all(np.hypot(du, dv) >= _NEAREST_OWN * clear_px))
+
+    def _nearest_own(self, box, anchor, markers, leader=False):
+        """Whether the label ``box`` (axes fraction) reads as naming its own circle (centre
+        ``anchor``) rather than one of the ``markers`` (boxes, axes fraction): without a leader, it
+        lies :data:`_NEAREST_OWN` times as far from every other circle's centre as from its own;
+        with one (``leader``), so, or :data:`_BESIDE_POINTS` from each.
+        gear_machine's '1420' stood 13 pixels (150 dpi) from the 710 rpm circle and 18.5 from its
+        own at the end of its leader, and was read as the 710 rpm circle's speed."""
+        if not len(markers):
+            return True
+        boxes = np.asarray(markers, float).reshape(-1, 4)
+        scale = np.array([self.to_u, self.to_v])
+        centres = np.column_stack([boxes[:, 0] + boxes[:, 2], boxes[:, 1] + boxes[:, 3]]) / 2 / scale
+        low, high = np.array(box[:2]) / scale, np.array(box[2:]) / scale
+        point = np.asarray(anchor) / scale
+        own = float(np.hypot(*np.maximum(np.maximum(low - point, point - high), 0.0)))
+        near = np.hypot(*np.maximum(np.maximum(low - centres, centres - high), 0.0).T)
+        least = min(_NEAREST_OWN * own, _BESIDE_POINTS * self.points) if leader else _NEAREST_OWN * own
+        return bool(np.all(near >= least))
 
     def _short_of(self, start, centre, clear_px):
         """The end (axes fraction) of a leader line from ``start`` to ``centre`` (axes fraction)
@@ -1077,7 +1120,8 @@ class _CampbellLabels:
                 # 38.6 and 77.2 rpm, 5 pixels apart: the first's leader ended on the second's circle)
                 mine = {(a - radius_u, b - radius_v, a + radius_u, b + radius_v) for a, b in own}
                 box, leader = self._label_box((u, v), [(a, b, a + w, b + h) for a, b in corners], gap, placed,
-                                              [m for m in markers if m not in mine], (radius_u, radius_v))
+                                              [m for m in markers if m not in mine], (radius_u, radius_v),
+                                              own_nearest=True)
                 if leader is not None and len(own) > 1:
                     leader = self._group_leader(leader[0], own, (radius_u, radius_v))
             self._show_leader(self.critical_leaders[j], leader, "k")

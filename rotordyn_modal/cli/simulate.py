@@ -59,7 +59,9 @@ carry, is integrated as its linear model instead (said once on stderr; docs/simu
 (--speed, or --ramp), every body and every node of the shafts moving by small motions about
 the spinning machine (M q'' + (C + w G) q' + K q = unbalance forces, w the drive speed), the
 unbalances as rotating forces (with their angular-acceleration part on a ramp). It keeps the
-undamped modes below 4 times the fastest spin frequency (at least the 6 lowest) plus the
+undamped modes below 4 times the fastest spin frequency (at least the 6 lowest; after an
+impulse (--excitation), or weights set on from --initial rest, also every mode below the
+Nyquist frequency of the output times, what they can show: at rest the spin gives none) plus the
 static deflections under the unbalances and weights; --max-frequency HZ sets that limit,
 'all' keeps every mode (the linear model exactly, slower). --free-spin is refused with such
 a model (exit 2); a plain journal bearing (type = 'journal') keeps its film's nonlinear force

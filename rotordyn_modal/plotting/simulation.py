@@ -206,8 +206,9 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         Unit system of the sensor's displacement: µm, or mil (docs/units.md).
     steady : dict of str to SteadyOrder, optional
         The linear model's steady unbalance response at the tracks' speeds
-        (:func:`~rotordyn_modal.simulation.runup.steady_orders`): drawn dashed beside each
-        rotor's track, in its colour.
+        (:func:`~rotordyn_modal.simulation.runup.steady_orders`): its amplitude and phase drawn
+        dashed beside each rotor's track, in its colour (the phase moved by whole turns beside the
+        track's unwrapped one: ``SteadyOrder.phase_beside``).
 
     Returns
     -------
@@ -236,6 +237,9 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
             amplitude_ax.plot(steady[rotor].speeds * rpm, steady[rotor].amplitude * scale, "--", lw=1.0,
                               color=drawn[0].get_color(), gid=f"steady-{rotor}",
                               label=f"1X {rotor}, steady (linear)")
+            phase_ax.plot(steady[rotor].speeds * rpm, steady[rotor].phase_beside(track), "--", lw=1.0,
+                          color=drawn[0].get_color(), gid=f"steady-phase-{rotor}",
+                          label=f"1X {rotor}, steady (linear)")
         notes += _unknown_phase_note(track, result.rotor_names, drawn[0].get_color())
         spans = unsettled_spans(result, track, critical)
         causes = shade_causes(result, track, critical)

@@ -349,7 +349,12 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     ----------
     modes_below : float or None
         Cutoff of the basis [rad/s] (None: :data:`CUTOFF_FACTOR` times the fastest spin, at
-        least the :data:`LOWEST` lowest modes; ``inf``: every mode, the linear model exactly).
+        least the :data:`LOWEST` lowest modes; under a sudden load, :func:`sudden` -- an impulse,
+        or the weights from ``initial='rest'`` --, at least the output times' Nyquist frequency
+        :func:`output_nyquist`, so that at rest or at a slow spin the basis keeps every mode the
+        output times can show; ``inf``: every mode, the linear model exactly). The default output
+        times are 20 per period of the fastest of the spin and the modes kept for the spin (the
+        :data:`LOWEST` lowest at least), at least 201.
 
     Returns
     -------
@@ -369,11 +374,21 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     kick = None
     if impulse is not None:
         kick = _impulse_load(model, impulse, float(impulse_size))
-    system = reduced_system(model, speed, cutoff, () if kick is None else (kick,), unbalance_phases_deg)
+    loads = () if kick is None else (kick,)
+    system = reduced_system(model, speed, cutoff, loads, unbalance_phases_deg)
     below = system.frequencies[:system.modes]
     rate = max(fastest, below[below < cutoff].max(initial=0.0) if np.isfinite(cutoff) else below.max(initial=0.0))
     check_duration(duration, rate)
     check_resolution(duration, max(rate, system.frequencies.max(initial=0.0)), samples)   # every basis motion
+    # the output times resolve every mode kept, the lowest ones kept below the cutoff included
+    # (at rest the cutoff is 0: main sampled the six lowest 201 times whatever the duration)
+    count = samples or default_samples(max(fastest, below.max(initial=0.0)), duration)
+    if modes_below is None and sudden(model, impulse, initial):
+        seen = output_nyquist(count, duration)
+        if seen > cutoff:
+            cutoff = seen
+            system = reduced_system(model, speed, cutoff, loads, unbalance_phases_deg)
+            check_resolution(duration, system.frequencies.max(initial=0.0), samples)
     y0 = np.zeros(2 * system.size)
     if initial == "equilibrium" and system.films is not None:
         from .flexible_journal import equilibrium
@@ -391,7 +406,7 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
         raise InputError(f"initial {initial!r}: expected 'rest' or 'equilibrium'")
     if kick is not None:
         y0[system.size:] = kick @ system.V          # V^T M V = I: the velocity jump M^-1 Q, reduced
-    times = np.linspace(0.0, duration, samples or default_samples(rate, duration))
+    times = np.linspace(0.0, duration, count)
     notice_once(linear_only(model) or "a flexible rotor")    # after every refusal: a refusal is one line
     try:
         states = _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend)
@@ -402,6 +417,20 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
 
         raise failure(model, system.films, error.last, str(error), error.state, error.time) from None
     return _result(model, system, times, states, speed, accel, drive)
+
+
+def sudden(model, impulse, initial) -> bool:
+    """Whether the run starts with a sudden load, whose response holds every mode: an impulse, or
+    the weights set on at t = 0 on a machine started undeformed (``initial='rest'`` under
+    ``gravity``). The unbalances' forces grow with the spin, so they alone excite little beyond it."""
+    return impulse is not None or (initial == "rest" and bool(np.any(model.gravity)))
+
+
+def output_nyquist(samples, duration) -> float:
+    """The Nyquist frequency of ``samples`` output times over ``duration`` [s]: ``pi / step``
+    [rad/s]. A motion faster than this folds onto a slower one in the output; one slower shows as
+    itself. Under a sudden load (:func:`sudden`) the default basis keeps the modes below it."""
+    return np.pi * (samples - 1) / duration
 
 
 def _cutoff(value) -> float:

@@ -226,6 +226,25 @@ class SteadyOrder:
         """0-peak amplitude [m], shape (K,)."""
         return np.abs(self.response)
 
+    @property
+    def phase_deg(self) -> np.ndarray:
+        """Phase [deg] of ``A cos(w t + phase)``, in (-180, 180], shape (K,): as
+        ``unbalance_response`` and the order track give it."""
+        return np.degrees(np.angle(self.response))
+
+    def phase_beside(self, track) -> np.ndarray:
+        """:attr:`phase_deg` unwrapped along the speeds and moved by whole turns to lie beside
+        ``track``'s unwrapped phase (``OrderTrack.unwrapped_phase_deg``) [deg], shape (K,): the
+        whole turns that bring it nearest the track's known phases (their median difference), none
+        where no phase of the track is known. The same phase modulo 360 deg; what the run-up
+        figure's phase panel draws."""
+        steady = np.degrees(np.unwrap(np.angle(self.response)))
+        tracked = np.asarray(track.unwrapped_phase_deg, dtype=float)
+        known = np.isfinite(tracked) & np.isfinite(steady) if tracked.shape == steady.shape else np.zeros(0, bool)
+        if not known.any():
+            return steady
+        return steady + 360.0 * np.round(np.median(tracked[known] - steady[known]) / 360.0)
+
 
 def steady_orders(model, result, sensor) -> dict:
     """The linear model's steady unbalance response at ``sensor`` beside each rotor's 1X order
@@ -510,9 +529,9 @@ def shade_causes(result, track, critical=None) -> list:
     one short phrase a kind of cause.
 
     * a crossing of the track's own order passed faster than :data:`SLOW_PASSAGE` ``(zeta f)^2``
-      where the span is shaded: ``"lag through mode 2 (about 16% of the mode's peak)"``, the
-      response lagging behind the steady one by about :func:`quasi_static_deviation` of the
-      mode's own resonant peak (a mode the sensor hardly sees moves the track little); beyond
+      where the span is shaded: :func:`lag_text`, the response lagging behind the steady one,
+      off it by about :func:`quasi_static_deviation` of the mode's own resonant peak (amplitude and
+      phase together; a mode the sensor hardly sees moves the track little); beyond
       :data:`FAST_PASSAGE`, ``'fast passage of modes 1-3: lag, ringing'``;
     * another rotor's (or order's) fast passage, where the track's frequency is the mode's in a
       shaded span: ``"modes 3-6 rung by 1X pump's passage"`` (:func:`passage_spans`);
@@ -558,15 +577,32 @@ def shade_causes(result, track, critical=None) -> list:
             else:
                 lags[mode] = max(lag, lags.get(mode, 0.0))
     if lags:
-        causes.append(f"lag through mode{'s' if len(lags) > 1 else ''} " + ", ".join(str(m) for m in sorted(lags))
-                      + " (about " + ", ".join(f"{lags[m]:.0%}" for m in sorted(lags)) + " of "
-                      + ("the mode's" if len(lags) == 1 else "each mode's") + " peak)")
+        causes.append(lag_text(lags))
     if fast:
         causes.append(f"fast passage of {_modes_text(fast)}: lag, ringing")
     causes += [f"{_modes_text(modes)} rung by {name}'s passage" for name, modes in rung.items()]
     if getattr(track, "unsettled", None) is not None and np.any(track.unsettled):
         causes.append("unsettled windows (start transient, ringing)")
     return causes
+
+
+def lag_text(lags) -> str:
+    """The shade's words for the lag through modes ``lags`` (mode number to its
+    :func:`quasi_static_deviation`): ``"lag through mode 1 (estimate: near it the track is off the
+    steady response by up to 13% of that resonance's steady peak, amplitude and phase together)"``.
+
+    What the share measures: the distance between the tracked and the steady complex amplitude
+    (``|A - A0|``, the vector difference) near the mode's crossing, over that resonance's steady
+    peak ``|A0|``, the first term of the expansion in the sweep. It is not the peak's shortfall:
+    one mode swept at 0.8 ``(zeta f)^2`` (13 %) kept its peak within 0.5 % of the steady one, and was
+    off it by up to 8 % of the peak in amplitude and 7 deg in phase on its flanks (docs/simulate.md,
+    "What the shade says")."""
+    modes = sorted(lags)
+    many = len(modes) > 1
+    return (f"lag through mode{'s' if many else ''} " + ", ".join(str(m) for m in modes)
+            + f" (estimate: near {'each' if many else 'it'} the track is off the steady response by up to "
+            + ", ".join(f"{lags[m]:.0%}" for m in modes)
+            + f" of {'its' if many else 'that'} resonance's steady peak, amplitude and phase together)")
 
 
 def _modes_text(modes) -> str:

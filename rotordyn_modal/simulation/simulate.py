@@ -104,6 +104,9 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         Only with a flexible rotor: the basis of the linear time model keeps the undamped modes
         (bearings' stiffness at the start ``speed``) below this [rad/s] (default: 4 times the
         fastest spin), at least the 6 lowest (:data:`rotordyn_modal.simulation.flexible.LOWEST`),
+        and after an impulse or with weights set on from ``initial='rest'`` at least the modes below
+        the output times' Nyquist frequency (at rest the spin gives no limit;
+        :func:`rotordyn_modal.simulation.flexible.output_nyquist`),
         plus the static deflections under the unbalances, weights and impulse; ``math.inf``
         keeps every mode (the linear model exactly, slower).
 

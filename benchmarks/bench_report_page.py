@@ -33,12 +33,14 @@ import matplotlib
 
 matplotlib.use("Agg")
 
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))                   # this checkout's package, not an installed one
+sys.path.insert(1, str(ROOT / "tests"))
+
 import rotordyn_modal as rdm  # noqa: E402
 from rotordyn_modal.analysis.level1 import Station  # noqa: E402
 from rotordyn_modal.report import render  # noqa: E402
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
 from test_large_machine_cli import chained_gear_toml  # noqa: E402
 from test_report_estimate27r import CHANNELS  # noqa: E402
 

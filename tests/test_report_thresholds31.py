@@ -117,7 +117,7 @@ def test_bound_counts_the_island_and_its_refinement(island, monkeypatch):
     assert len(thresholds) == found
     assert 0 < calls[0] <= bound * collect_module.THRESHOLD_SOLVES
     text = dict((p[0], p[2]) for p in collect_module.estimate_work(island, inputs).parts)["campbell"]
-    assert f"the stability row's thresholds: {bound} refined" in text
+    assert f"the stability row's thresholds: at most {bound} refined" in text
 
 
 @pytest.mark.parametrize("name, mcs_rpm, points", [

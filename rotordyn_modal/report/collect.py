@@ -840,7 +840,7 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     parts = [("static", shares["static"] * eig, "1 solve at the MCS"),
              ("campbell", campbell.seconds + round_off + refined,
               campbell.text().split(" of CPU time (", 1)[1][:-1] + f"; their round-off: {_cost.duration(round_off)}"
-              + (f"; the stability row's thresholds: {thresholds:,} refined" if thresholds else "")),
+              + (f"; the stability row's thresholds: at most {thresholds:,} refined" if thresholds else "")),
              ("modes", shares["modes"] * eig, f"1 eigen-solution of {campbell.n_states:,} states")]
     if "ucs" in counts:
         wider = _ucs_widened(model, inputs)

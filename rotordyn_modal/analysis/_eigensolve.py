@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import ctypes
 import functools
-import warnings
 
 import numpy as np
 
@@ -1085,7 +1084,7 @@ def _real_newton(mass, damping, stiffness, branches, root, shape):
     """
     import scipy.linalg
 
-    from ._lowest_newton import _EXTENDED, _PROMISED, _exact_sums, _round_off_of
+    from ._lowest_newton import _EXTENDED, _PROMISED, _exact_sums, _round_off_of, bordered_lu
 
     n = mass.shape[0]
     x = np.asarray(shape, dtype=float) / np.linalg.norm(shape)
@@ -1097,15 +1096,8 @@ def _real_newton(mass, damping, stiffness, branches, root, shape):
     for K, tau in zip(K_t, times):
         T[:k, :k] += s * tau / (1.0 + s * tau) * K
         slope[:k] += tau / (1.0 + s * tau) ** 2 * (K @ x[:k])
-    J = np.zeros((n + 1, n + 1))
-    J[:n, :n], J[:n, n], J[n, :n] = T, slope, start
-    if not np.all(np.isfinite(J)):
-        return None
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            lu = scipy.linalg.lu_factor(J, check_finite=False)
-    except (ValueError, np.linalg.LinAlgError):
+    lu = bordered_lu(T, slope, start, finite_only=True)
+    if lu is None:
         return None
     low, moved = np.zeros(n), np.inf             # x + low: the shape as a double-double
     stacked = K_t.reshape(len(times) * k, k)     # (b k, k): every branch's rows

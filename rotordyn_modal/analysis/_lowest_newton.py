@@ -361,6 +361,25 @@ def root_polished(M, damping, stiffness, root, shape):
     return roots[0], _vectors.phase_aligned(shapes[0], shape), left
 
 
+def bordered_lu(T, slope, border, finite_only=False):
+    """The LU factors (``scipy.linalg.lu_factor``) of Newton's bordered matrix ``[[T, slope],
+    [border, 0]]`` ((n + 1) x (n + 1), of ``T``'s type: real or complex), or None where it cannot
+    be factored (or, with ``finite_only``, holds a value that is not finite). ``T`` (n, n) is the
+    pencil at the root, ``slope`` (n,) its derivative times the shape, ``border`` (n,) the row
+    that fixes the shape's scale."""
+    n = T.shape[0]
+    J = np.zeros((n + 1, n + 1), np.result_type(T, slope, border))
+    J[:n, :n], J[:n, n], J[n, :n] = T, slope, border
+    if finite_only and not np.all(np.isfinite(J)):
+        return None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+            return scipy.linalg.lu_factor(J, check_finite=False)
+    except (ValueError, np.linalg.LinAlgError):
+        return None
+
+
 def rational_root_polished(M, damping, stiffness, branches, root, shape):
     """:func:`root_polished` on the rational pencil of Maxwell branches, ``T(s) = M s^2 + D s + K +
     sum_t K_t s tau_t / (1 + s tau_t)`` (``branches`` = ``K_t`` (b, k, k) on the first ``k``
@@ -383,13 +402,8 @@ def rational_root_polished(M, damping, stiffness, branches, root, shape):
     T[:k, :k] += sum(f * K for f, K in zip(factors(s), K_t))
     slope = (2.0 * s * M + damping) @ x
     slope[:k] += sum(f * K for f, K in zip(factors(s, True), K_t)) @ x[:k]
-    J = np.zeros((n + 1, n + 1), complex)
-    J[:n, :n], J[:n, n], J[n, :n] = T, slope, start.conj()
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            lu = scipy.linalg.lu_factor(J, check_finite=False)
-    except (ValueError, np.linalg.LinAlgError):
+    lu = bordered_lu(T, slope, start.conj())
+    if lu is None:
         return None
     moved = np.inf
     stacked = np.asarray(K_t, dtype=float).reshape(-1, k)                # (b k, k): every branch's rows

@@ -89,6 +89,8 @@ def read_mapping(path, model) -> ChannelMap:
         raise unreadable(path, "mapping table", error) from None
     table, _ = read_csv_table(data, path, "the mapping table")   # ';' or tabs, names as written
     table.columns = [split_header(c)[0] for c in table.columns]
+    unknown_columns([c for c in table.columns if c not in _MAPPING_COLUMNS], _MAPPING_COLUMNS, path,
+                    "name,node,direction[,sign]")
     missing = {"name", "node", "direction"} - set(table.columns)
     if missing:
         raise InputError(f"{path}: mapping table lacks the column(s) {', '.join(sorted(missing))}: "
@@ -115,6 +117,33 @@ def read_mapping(path, model) -> ChannelMap:
             role[key] = (row.name, sign)
     return ChannelMap(outputs, inputs, twice={name: (path, rows) for name, rows in given.items() if len(rows) > 1},
                       source=path)
+
+
+#: the columns of a mapping table
+_MAPPING_COLUMNS = ("name", "node", "direction", "sign")
+
+
+def unknown_columns(columns, known, path, layout: str) -> None:
+    """Columns of a table that its reader does not read (``columns``, header names as read):
+    one that is a near miss of a ``known`` name (``quantitiy``, ``sing``, ``coherance``) is
+    refused, naming the name meant (its data would have been dropped without a word: a mobility
+    read as the default receptance, a sign of -1 lost); others draw one warning line naming them.
+
+    Raises
+    ------
+    InputError
+    """
+    import difflib
+    import warnings
+
+    for column in columns:
+        close = difflib.get_close_matches(str(column), known, n=1, cutoff=0.75)
+        if close:
+            raise InputError(f"{path}: column {visible(str(column))!r} is not a column of the layout "
+                             f"({layout}): did you mean {close[0]!r}?")
+    if columns:
+        warnings.warn(f"{path}: column(s) {visible_names(map(str, columns))} not read (the columns read are "
+                      f"{layout})", stacklevel=3)
 
 
 def _check_one_node(given, name, key, line, path, both):
@@ -152,8 +181,8 @@ def _mapping_row(row, has_sign, path, line):
     """``((node, direction), sign)`` of one row of a mapping table, or a refusal naming the line."""
     def whole(name):
         value = getattr(row, name)
-        try:
-            number = float(value)
+        try:   # float() reads '1_0' as 10: a digit separator no channel table writes, refused
+            number = float("nan") if "_" in str(value) else float(value)
         except (TypeError, ValueError):
             number = float("nan")
         if not np.isfinite(number) or number != int(number):

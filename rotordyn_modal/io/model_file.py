@@ -113,9 +113,14 @@ def read_toml(path, what: str, error=ModelError) -> dict:
         raise error(source, "<file>", source, f"a readable file ({problem.strerror})") from None
     nested = f"TOML with arrays and tables nested at most {MAX_NESTING} deep"
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(text, parse_float=_representable_float)
+    except _Unrepresentable as literal:
+        line, key = _literal_line(text, literal.text)
+        raise error(source, f"line {line}: {key}" if key else f"line {line}", _Typed(literal.text),
+                    f"a number of magnitude at most {LARGEST:g} (SI units)" if literal.overflow else
+                    "a number a double can hold (magnitude at least 5e-324; write 0 for zero)") from None
     except tomllib.TOMLDecodeError as problem:
-        raise error(source, "<file>", str(problem), "valid TOML") from None
+        raise error(source, "<file>", str(problem), "valid TOML" + _unseen_character(text, problem)) from None
     except RecursionError:
         raise error(source, "<file>", "arrays or tables nested too deep to parse", nested) from None
     if not data:        # was refused for its first missing table ('rotors = []', 'no ShaftElement tables')
@@ -129,6 +134,74 @@ def read_toml(path, what: str, error=ModelError) -> dict:
                         f"a number of magnitude at most {LARGEST:g} (SI units)")
         raise error(source, where, f"<nested more than {MAX_NESTING} deep>", nested)
     return data
+
+
+class _Unrepresentable(ValueError):
+    """A float literal of a TOML file that a double does not hold: beyond 1.8e308 (read as inf)
+    or a non-zero literal below 4.9e-324 (read as 0.0)."""
+
+    def __init__(self, text: str, overflow: bool):
+        super().__init__(text)
+        self.text, self.overflow = text, overflow
+
+
+class _Typed(str):
+    """A literal shown in a message as typed (``1e400``, not ``'1e400'`` or ``inf``)."""
+
+    def __repr__(self):
+        return str(self)
+
+
+def _representable_float(text: str) -> float:
+    """``float(text)`` of a TOML float literal, refused where the double is not the number typed:
+    ``1e400`` (was read as inf and refused as 'stiffness = inf') or ``1e-400`` (was read as 0.0
+    silently, a zero stiffness or gravity the file does not say)."""
+    value = float(text)
+    digits = text.lower().split("e")[0]
+    if value in (float("inf"), float("-inf")) and "inf" not in text:
+        raise _Unrepresentable(text, overflow=True)
+    if value == 0 and any(c in "123456789" for c in digits):
+        raise _Unrepresentable(text, overflow=False)
+    return value
+
+
+def _literal_line(text: str, literal: str):
+    """``(line number, key)`` of the first line of ``text`` holding the literal ``literal`` (the
+    key: the text before its '=', or '' on a line of an array's continuation)."""
+    import re
+
+    pattern = re.compile(r"(?<![\w.])" + re.escape(literal) + r"(?![\w.])")
+    key = ""
+    for number, line in enumerate(text.splitlines(), start=1):
+        code = line.split("#", 1)[0]
+        name, equals, _ = code.partition("=")
+        if equals and not name.strip().startswith("["):
+            key = name.strip()          # an array over several lines: the key of its first
+        elif code.strip().startswith("["):
+            key = ""
+        if pattern.search(code):
+            return number, key
+    return 0, ""
+
+
+def _unseen_character(text: str, problem) -> str:
+    """What a TOML error's position holds when it is a character no one sees (a second byte-order
+    mark, a zero-width space, a no-break space): ``" (the character at line 1, column 1 is
+    U+FEFF, zero width no-break space, invisible)"``; else ''."""
+    import unicodedata
+
+    import re
+
+    at = re.search(r"at line (\d+), column (\d+)\)", str(problem))   # Python 3.14 has lineno, colno
+    line, column = (int(at.group(1)), int(at.group(2))) if at else (0, 0)
+    lines = text.split("\n")
+    if not (0 < line <= len(lines) and 0 < column <= len(lines[line - 1])) or "Illegal character" in str(problem):
+        return ""           # tomllib names an illegal character itself
+    char = lines[line - 1][column - 1]
+    if char.isprintable() and not char.isspace() or char in " \t\r":
+        return ""
+    name = unicodedata.name(char, "").lower() or "a control character"
+    return f" (the character at line {line}, column {column} is U+{ord(char):04X}, {name}, invisible)"
 
 
 def _too_deep(data):

@@ -199,6 +199,9 @@ def _increment(channel, path) -> float:
     (seconds when it says none)."""
     from .unit_labels import is_none, parse_unit
 
+    if "wf_increment" not in channel.properties:     # was "sampling intervals [0.0] s": a value not in the file
+        raise InputError(f"{path}: channel {channel.name!r} has no wf_increment property (its sampling interval): "
+                         "expected a waveform channel, as NI DAQmx and LabVIEW write them")
     try:
         step = float(channel.properties.get("wf_increment", 0.0))
     except (TypeError, ValueError):

@@ -826,9 +826,13 @@ def _abscissa_factor(s, expected, path):
 
 def _check_set(s, path):
     where = f"{path}: FRF {s['rsp_node']}:{s['rsp_dir']} / {s['ref_node']}:{s['ref_dir']}"
-    data = np.asarray(s["data"])
-    if len(data) != len(np.asarray(s["x"])) or not np.all(np.isfinite(data)):
-        raise InputError(f"{where}: {len(data)} values for {len(np.asarray(s['x']))} frequencies, or non-finite values")
+    data, count = np.asarray(s["data"]), len(np.asarray(s["x"]))
+    if len(data) != count:
+        raise InputError(f"{where}: {len(data)} values for {count} frequencies: expected one value per frequency")
+    if not np.all(np.isfinite(data)):       # was "50 values for 50 frequencies, or non-finite values"
+        bad = int(np.flatnonzero(~np.isfinite(data))[0])
+        raise InputError(f"{where}: value {bad + 1} of {count} (at {float(np.real(s['x'][bad])):.6g} Hz) is "
+                         f"{data[bad]}, and {int(np.sum(~np.isfinite(data)))} in all: expected finite numbers")
     kind = int(s.get("ord_data_type", 5))
     if kind in _REAL_ORDINATES:
         # a magnitude-only export was read as an FRF of phase 0 everywhere (drawn, fitted)

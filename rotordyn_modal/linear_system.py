@@ -100,6 +100,9 @@ def checked_mass_inverse(model) -> np.ndarray:
 #: mount mode already sags 0.1 m, since f = sqrt(g / sag) / (2 pi)); metres mean a stiffness in
 #: N/mm given as N/m or a mass in g given as kg (either makes the sag 1000 times too large)
 SAG_LIMIT = 0.1
+#: the most coordinates of a model whose rotors' sag in their bearings is looked at when it is
+#: read (a dense SVD of the stiffness: 0.1 s at this size; larger models are left to ``static``)
+SAG_CHECK_DOF = 600
 #: lowest natural frequency [Hz] of the machine on its suspensions below which a model without
 #: gravity draws a warning (a stiffness 1000 times too small, or a mass 1000 times too large, puts a
 #: 10 Hz mount mode at 0.3 Hz)
@@ -137,6 +140,12 @@ def implausible(model, units: str = "si") -> list[str]:
             with np.errstate(all="ignore"):
                 sag = _sag_line(model, units)
                 lines += [sag] if sag else _low_mode_lines(model)
+        except (np.linalg.LinAlgError, ValueError):
+            pass
+    if model.bearings and np.any(model.gravity) and model.dofs.n <= SAG_CHECK_DOF:
+        try:       # small dense work: one BLAS thread (a busy machine's many threads took 0.3 s for 68x68)
+            with np.errstate(all="ignore"), one_blas_thread(72 * model.dofs.n ** 2):
+                lines += _bearing_sag_lines(model, units)
         except (np.linalg.LinAlgError, ValueError):
             pass
     for b in model.bearings:
@@ -247,6 +256,33 @@ def _sag_line(model, units: str = "si") -> str:
             f"{length} at [suspensions.{visible(model.suspensions[worst].name)}] (static deflection on its "
             f"suspensions; mounts deflect millimetres, over {to_system(SAG_LIMIT, 'length', units):.3g} {length} "
             "is unlikely): is a stiffness in N/mm given as N/m, or a mass in g given as kg?")
+
+
+def _bearing_sag_lines(model, units: str = "si") -> list[str]:
+    """The warning about a rotor's static deflection in its bearings under gravity, or none: the
+    relative motion at each bearing point in the static solution ``K q = weight`` of the
+    constant supports (a model with speed-dependent bearings, whose static position is their
+    film's, is left to its analyses). Over :data:`SAG_LIMIT` a bearing stiffness in N/mm given as
+    N/m, a mass in g given as kg, or a gravity in mm/s^2 is the likely cause (the suspensions'
+    own check, :func:`_sag_line`, sees only the stator)."""
+    if any(b.coefficients.kind != "constant" for b in model.bearings):
+        return []
+    stiffness, _ = constant_stiffness_damping(model)
+    q = static_solution(stiffness, weight_force(model))
+    if q is None:
+        return []
+    drops = []
+    for b in model.bearings:
+        rows, moves = bearing_motion(model, b)
+        drops.append(float(np.linalg.norm((moves @ q[rows])[:3])))
+    worst = int(np.argmax(drops))
+    if not drops[worst] > SAG_LIMIT:
+        return []
+    b, length = model.bearings[worst], unit_label("length", units)
+    return [f"{model.source}: under gravity rotor {visible(b.rotor)!r} would sag "
+            f"{to_system(drops[worst], 'length', units):.3g} {length} at [bearings.{visible(b.name)}] (static "
+            f"deflection of its bearings; over {to_system(SAG_LIMIT, 'length', units):.3g} {length} is unlikely): is a "
+            "stiffness in N/mm given as N/m, a mass in g given as kg, or gravity not in m/s^2?"]
 
 
 def static_solution(stiffness: np.ndarray, load: np.ndarray):

@@ -91,6 +91,7 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
     unbalances = [_flexible_unbalance(t, u, rotors) for t, u in zip(unbalance_tables, unbalances)]
     _check_eccentricities(unbalance_tables, unbalances, rotors)
     gravity = top.vector3("gravity", default=[0.0, 0.0, 0.0])
+    _check_gravity(source, gravity)
     bearing_tables = _named_tables(source, data, "bearings")
     sensor_tables = _named_tables(source, data, "sensors")
     _check_force_names(rotor_tables, suspension_tables, bearing_tables, sensor_tables)
@@ -629,6 +630,28 @@ def _graded_unbalance(table: _Table, rotor, common) -> Unbalance:
 #: [m] the eccentricity (amount / rotor mass) no unbalance exceeds whatever the rotor's inertia
 #: says: no machine's centre of mass runs a metre off its spin axis
 ECCENTRICITY_FLOOR = 1.0
+
+
+#: the largest acceleration of gravity [m/s^2] a model takes without a warning: 5 g (a static load
+#: case of a vehicle's machine may exceed 1 g; 9810 is a value in mm/s^2, 386 one in in/s^2)
+GRAVITY_WARN = 50.0
+#: the standard gravity in ft/s^2: a model's gravity of this size is a value in ft/s^2 typed for m/s^2
+_G_FEET = 9.80665 / 0.3048
+
+
+def _check_gravity(source, gravity) -> None:
+    """Warn (one line) where ``gravity`` [m/s^2] is over :data:`GRAVITY_WARN` or the standard
+    gravity in ft/s^2: the weights, the static sag, the journal bearings' loads and eccentricities
+    follow from it without a word."""
+    import warnings
+
+    from ..errors import ModelWarning
+
+    size = float(np.linalg.norm(gravity))
+    if size > GRAVITY_WARN or abs(size - _G_FEET) < 0.05:
+        warnings.warn(f"{source}: gravity = {[float(g) for g in gravity]}: {size:g} m/s^2 is {size / 9.80665:.4g} g "
+                      "(Earth's: 9.81 m/s^2); a value in mm/s^2, in/s^2 or ft/s^2 typed for m/s^2? (model files "
+                      "are SI)", ModelWarning, stacklevel=2)
 
 
 def _check_eccentricities(tables, unbalances, rotors) -> None:

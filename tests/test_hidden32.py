@@ -203,3 +203,26 @@ def test_a_gravity_in_another_unit_draws_one_warning(tmp_path, gravity, warned):
     assert len(lines) == int(warned), lines
     if warned:
         assert f"{abs(gravity) / 9.80665:.4g} g" in lines[0], lines
+
+
+# ----------------------------------------------------------------------- outline tables
+@pytest.mark.parametrize("text, words", [
+    ("0,0,0\n1,0,0\n", ["holds numbers", "header line"]),          # was "column '0' is named twice"
+    ("z,y,x\n0,0,0\nnan,1,0\n", ["line 3: z = 'nan'"]),              # was "z empty": a cell that is not
+])
+def test_an_outline_without_a_header_or_with_a_nan_cell_says_what_it_holds(tmp_path, capsys, text, words):
+    path = _write(tmp_path, text, "o.csv")
+    assert main(["modes", str(GEAR), "--speed", "600", "--outline", str(path), "--shape", "1", "--plot",
+                 str(tmp_path / "s.png"), "--quiet"]) == 2
+    _one_line_error(capsys, *words)
+    assert not (tmp_path / "s.png").exists()
+
+
+def test_a_measured_table_refused_gets_one_line_without_a_warning_of_its_columns(tmp_path, capsys, measured):
+    """A table without its header line was refused after a warning naming its first row's
+    numbers as unread columns: two lines for one mistake."""
+    lines = (measured / "g.csv").read_text().splitlines()
+    path = _write(tmp_path, "\n".join(lines[1:]) + "\n", "m.csv")
+    assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--measured", str(path), "--out",
+                 str(tmp_path / "o.csv"), "--quiet"]) == 2
+    _one_line_error(capsys, "expected the columns")

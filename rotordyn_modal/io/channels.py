@@ -115,6 +115,7 @@ def read_mapping(path, model) -> ChannelMap:
                                  f"{role[key][0]!r} already: expected each node and direction once among the "
                                  f"{'sensors' if role is outputs else 'excitations'}")
             role[key] = (row.name, sign)
+    unread_columns([c for c in table.columns if c not in _MAPPING_COLUMNS], path, "name,node,direction[,sign]")
     return ChannelMap(outputs, inputs, twice={name: (path, rows) for name, rows in given.items() if len(rows) > 1},
                       source=path)
 
@@ -124,23 +125,30 @@ _MAPPING_COLUMNS = ("name", "node", "direction", "sign")
 
 
 def unknown_columns(columns, known, path, layout: str) -> None:
-    """Columns of a table that its reader does not read (``columns``, header names as read):
-    one that is a near miss of a ``known`` name (``quantitiy``, ``sing``, ``coherance``) is
-    refused, naming the name meant (its data would have been dropped without a word: a mobility
-    read as the default receptance, a sign of -1 lost); others draw one warning line naming them.
+    """Refuse a column of a table that its reader does not read (``columns``, header names as
+    read) when it is a near miss of a ``known`` name (``quantitiy``, ``sing``, ``coherance``),
+    naming the name meant: its data were dropped without a word (a mobility read as the default
+    receptance, a sign of -1 lost). Others are named by :func:`unread_columns` once the table is
+    read.
 
     Raises
     ------
     InputError
     """
     import difflib
-    import warnings
 
     for column in columns:
         close = difflib.get_close_matches(str(column), known, n=1, cutoff=0.75)
         if close:
             raise InputError(f"{path}: column {visible(str(column))!r} is not a column of the layout "
                              f"({layout}): did you mean {close[0]!r}?")
+
+
+def unread_columns(columns, path, layout: str) -> None:
+    """One warning line naming the columns of a table read that its reader passed over (a
+    comment, a tool's own column): after the table's refusals, so that a refused file gets one line."""
+    import warnings
+
     if columns:
         warnings.warn(f"{path}: column(s) {visible_names(map(str, columns))} not read (the columns read are "
                       f"{layout})", stacklevel=3)

@@ -275,12 +275,24 @@ def _check_columns_once(header: str, separator: str, path) -> None:
     import csv
 
     names = [name.strip() for name in next(csv.reader([header.strip("\r\n")], delimiter=separator), [])]
+    if len(names) > 1 and all(_is_number_text(name) for name in names):   # was "column '0' is named twice"
+        raise InputError(f"{path}: the first line ({separator.join(names)[:60]}) holds numbers, not column names: "
+                         "expected a header line naming the columns first")
     seen = {}
     for index, name in enumerate(names):
         if name and name.lower() in seen:
             raise InputError(f"{path}: column {name!r} is named twice in the header (columns {seen[name.lower()] + 1} "
                              f"and {index + 1}): expected each column once")
         seen[name.lower()] = index
+
+
+def _is_number_text(text: str) -> bool:
+    """True for a cell that reads as a number (a decimal comma too); an empty cell is none."""
+    try:
+        float(text.replace(",", "."))
+    except ValueError:
+        return False
+    return bool(text)
 
 
 def _without_trailing_empty_rows(table):

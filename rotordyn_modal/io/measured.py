@@ -32,7 +32,8 @@ import numpy as np
 from ..analysis.frf import FRFResult
 from ..errors import InputError
 from ..model._table import visible_names
-from .channels import _LARGEST_VALUE, ChannelMap, assemble, default_mapping, read_mapping, unknown_columns
+from .channels import _LARGEST_VALUE, ChannelMap, assemble, default_mapping, read_mapping, unknown_columns, \
+    unread_columns
 
 __all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap",
            "check_mapping_used", "is_universal_file", "sniffed_ending", "piped_copy"]
@@ -358,6 +359,7 @@ def read_csv(path, model) -> list[FRFResult]:
     if "unit" in table.columns:
         quantity, factors = _csv_units(table, quantity, model, path)
         values = values * factors
+    unread_columns([c for c in table.columns if c not in _KNOWN_COLUMNS], path, _LAYOUT)
     records = {"speed_rpm": column.get("speed_rpm", np.zeros(len(table))), "frequency_hz": column["frequency_hz"],
                "output": _names(table, "output"), "input": _names(table, "input"),
                "value": values, "coherence": column.get("coherence")}
@@ -374,6 +376,8 @@ _HEADER_UNITS = {"frequency_hz": {"hz": 1.0, "khz": 1e3},
                  "speed_rpm": {"rpm": 1.0, "1/min": 1.0, "rad/s": 30.0 / np.pi, "hz": 60.0},
                  "phase_deg": {"deg": 1.0, "°": 1.0, "degree": 1.0, "degrees": 1.0, "rad": 180.0 / np.pi}}
 _VALUE_COLUMNS = ("real", "imag", "magnitude")
+#: the layout's columns, as messages name them
+_LAYOUT = "speed_rpm,frequency_hz,output,input,real,imag,magnitude,phase_deg,coherence,quantity,unit"
 #: every column the layout reads (after :data:`_ALIASES`); others are not read
 _KNOWN_COLUMNS = ("speed_rpm", "frequency_hz", "output", "input", "real", "imag", "magnitude", "phase_deg", "coherence",
                   "quantity", "unit")
@@ -448,7 +452,7 @@ def _canonical_columns(table, path):
         elif name != "coherence" or unit not in ("-", "1"):
             raise InputError(f"{path}: column {cell!r}: a unit {unit!r} where the column has none")
     unknown_columns([c for c, n in names.items() if n not in _KNOWN_COLUMNS], _KNOWN_COLUMNS + tuple(_ALIASES), path,
-                    "speed_rpm,frequency_hz,output,input,real,imag,magnitude,phase_deg,coherence,quantity,unit")
+                    _LAYOUT)
     if len(value_units) > 1:
         raise InputError(f"{path}: the FRF columns give the units {', '.join(sorted(map(repr, value_units)))}: "
                          "expected one unit of every value")

@@ -100,8 +100,11 @@ def _check_whole_rows(points, table, path):
     partial = empty.any(axis=1) & ~empty.all(axis=1)
     if partial.any():
         row = int(np.argmax(partial))
-        missing = ",".join(name for name, e in zip(_COLUMNS, empty[row]) if e)
-        raise InputError(f"{path}: line {file_line(table, row)}: {missing} empty: expected a point "
+        found = _columns(table, path)
+        cells = {name: str(table.iloc[row][found[name][0]]).strip() for name in _COLUMNS}
+        typed = [f"{name} = {cells[name]!r}" for name, e in zip(_COLUMNS, empty[row]) if e and cells[name]]
+        missing = ", ".join(typed) or ",".join(name for name, e in zip(_COLUMNS, empty[row]) if e) + " empty"
+        raise InputError(f"{path}: line {file_line(table, row)}: {missing}: expected a point "
                          f"x,y,z (three numbers) or an empty row between two lines")
 
 

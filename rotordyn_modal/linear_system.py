@@ -117,6 +117,9 @@ def implausible(model, units: str = "si") -> list[str]:
       suspensions that do not hold the weight at all; without gravity, or when the sag is
       plausible, a mode of the machine on its suspensions below :data:`LOWEST_MOUNT_FREQUENCY`
       (unrestrained directions, frequency zero, are not counted: ``check`` notes them).
+    * Without such a sag line, a rotor in its constant bearings under ``gravity`` deflecting more
+      than :data:`SAG_LIMIT` at a bearing point (:func:`_bearing_sag_lines`; models of at most
+      :data:`SAG_CHECK_DOF` coordinates).
     * A journal bearing longer than :data:`~rotordyn_modal.elements._bearing_validation.LONG_JOURNAL`
       diameters (short-bearing theory loses accuracy there).
     * A station of a flexible rotor placed at another's node, closer than
@@ -134,7 +137,7 @@ def implausible(model, units: str = "si") -> list[str]:
     -------
     list of str, each naming the model's source
     """
-    lines = []
+    lines, sag = [], ""
     if model.suspensions:
         try:   # a model whose numbers overflow here is refused by its analyses, not by a warning
             with np.errstate(all="ignore"):
@@ -142,7 +145,8 @@ def implausible(model, units: str = "si") -> list[str]:
                 lines += [sag] if sag else _low_mode_lines(model)
         except (np.linalg.LinAlgError, ValueError):
             pass
-    if model.bearings and np.any(model.gravity) and model.dofs.n <= SAG_CHECK_DOF:
+    # one sag line for one mistake: the machine's on its suspensions already names the units
+    if model.bearings and np.any(model.gravity) and not sag and model.dofs.n <= SAG_CHECK_DOF:
         try:       # small dense work: one BLAS thread (a busy machine's many threads took 0.3 s for 68x68)
             with np.errstate(all="ignore"), one_blas_thread(72 * model.dofs.n ** 2):
                 lines += _bearing_sag_lines(model, units)

@@ -101,8 +101,9 @@ def checked_mass_inverse(model) -> np.ndarray:
 #: N/mm given as N/m or a mass in g given as kg (either makes the sag 1000 times too large)
 SAG_LIMIT = 0.1
 #: the most coordinates of a model whose rotors' sag in their bearings is looked at when it is
-#: read (a dense SVD of the stiffness: 0.1 s at this size; larger models are left to ``static``)
-SAG_CHECK_DOF = 600
+#: read (a dense SVD of the stiffness, about 50 ms at this size on one thread: 0.3 s at 381;
+#: larger models are left to ``static``)
+SAG_CHECK_DOF = 200
 #: lowest natural frequency [Hz] of the machine on its suspensions below which a model without
 #: gravity draws a warning (a stiffness 1000 times too small, or a mass 1000 times too large, puts a
 #: 10 Hz mount mode at 0.3 Hz)

@@ -226,3 +226,14 @@ def test_a_measured_table_refused_gets_one_line_without_a_warning_of_its_columns
     assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--measured", str(path), "--out",
                  str(tmp_path / "o.csv"), "--quiet"]) == 2
     _one_line_error(capsys, "expected the columns")
+
+
+def test_a_measured_value_beyond_a_double_is_named_as_typed(tmp_path, measured):
+    """``1e400`` in a CSV's real column was refused as 'real = inf', a value the file does not hold."""
+    lines = (measured / "g.csv").read_text().splitlines()
+    cells = lines[1].split(",")
+    cells[lines[0].split(",").index("real")] = "1e400"
+    path = _write(tmp_path, "\n".join([lines[0], ",".join(cells), *lines[2:]]) + "\n", "m.csv")
+    with pytest.raises(InputError) as caught:
+        read_measured(path, rdm.load_model(GEAR))
+    assert "real = 1e400 " in str(caught.value) and "line 2" in str(caught.value), caught.value

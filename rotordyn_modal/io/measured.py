@@ -237,7 +237,11 @@ def _check_column(table, column, name, path, valid, expected) -> None:
         first = int(bad[0])
         row = table.iloc[first]
         where = f"{row.get('output', '?')} / {row.get('input', '?')} at {column['frequency_hz'][first]:g} Hz"
-        raise InputError(f"{path}: {name} = {values[first]:g} in data row {first + 1} (line {file_line(table, first)}, "
+        typed = str(row.get(name, "")).strip()
+        shown = f"{values[first]:g}"
+        if not np.isfinite(values[first]) and typed and typed.lower().lstrip("+-") not in ("inf", "infinity", "nan"):
+            shown = f"{typed} (read as {shown}: beyond a double)"      # 1e400 was shown as 'inf' only
+        raise InputError(f"{path}: {name} = {shown} in data row {first + 1} (line {file_line(table, first)}, "
                          f"{where}; {bad.size} such "
                          f"row(s)): expected {expected}")
 

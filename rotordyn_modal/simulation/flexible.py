@@ -15,7 +15,8 @@ disks, bearings at each rotor's own speed, mounts), the unbalances as rotating f
 reaction of the eccentric mass's acceleration: it lags on a run-up)
 (``theta = r_j phi + phase``) and the weights ``f_g = M a_g`` (gravity as a uniform
 acceleration ``a_g`` of every body). ``q = V eta`` on a speed-independent basis: the undamped
-modes at the start speed below a cutoff (at least the lowest :data:`LOWEST`) plus the static
+modes at the start speed below a cutoff (at least the lowest :data:`LOWEST`; under a sudden load
+also the modes it reaches at the sensors, :func:`reached_modes`) plus the static
 deflections under the unbalances', weights' and impulse's forces that those modes leave out
 (modal truncation augmentation), made M-orthonormal by a Rayleigh-Ritz step. With every mode
 kept the reduction is exact. Plain journal bearings are left out of the matrices and push their
@@ -533,12 +534,18 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     ----------
     modes_below : float or None
         Cutoff of the basis [rad/s] (None: :data:`CUTOFF_FACTOR` times the fastest spin, at
-        least the :data:`LOWEST` lowest modes; under a sudden load, :func:`sudden` -- an impulse,
-        or the weights from ``initial='rest'`` --, at least the output times' Nyquist frequency
-        :func:`output_nyquist`, so that at rest or at a slow spin the basis keeps every mode the
-        output times can show; ``inf``: every mode, the linear model exactly). The default output
-        times are 20 per period of the fastest of the spin and the modes kept for the spin (the
-        :data:`LOWEST` lowest at least), at least 201.
+        least the :data:`LOWEST` lowest modes; under a sudden load, :func:`sudden_loads` -- an
+        impulse, or the weights from ``initial='rest'`` --, also every mode carrying over
+        :data:`REACHED_SHARE` of a load's largest modal response at a sensor
+        (:func:`reached_modes`) and every mode below the output times' Nyquist frequency
+        :func:`output_nyquist` (of ``samples``, or of the spin's default output times); ``inf``:
+        every mode, the linear model exactly). The default output times are 20 per period of the
+        fastest of the spin and the modes kept for the spin (the :data:`LOWEST` lowest at least),
+        at least 201, and under a sudden load (``modes_below`` None) :data:`POINTS_PER_PERIOD` per
+        period of the fastest mode over :data:`REACHED_SHARE` where that is more (said on the log,
+        on stderr past :data:`ANNOUNCED_GROWTH` times). Given ``samples`` under
+        :data:`POINTS_PER_PERIOD` a period of a mode in the basis over :data:`WARNED_SHARE` give
+        one ``UserWarning`` naming it.
 
     Returns
     -------
@@ -637,7 +644,8 @@ def sudden(model, impulse, initial) -> bool:
 def output_nyquist(samples, duration) -> float:
     """The Nyquist frequency of ``samples`` output times over ``duration`` [s]: ``pi / step``
     [rad/s]. A motion faster than this folds onto a slower one in the output; one slower shows as
-    itself. Under a sudden load (:func:`sudden`) the default basis keeps the modes below it."""
+    itself. Under a sudden load (:func:`sudden`) the default basis keeps the modes below it (of the
+    given output times, or of the spin's default ones)."""
     return np.pi * (samples - 1) / duration
 
 

@@ -384,7 +384,7 @@ class Reach:
         Each mode's largest response at a sensor over the largest of every mode at every sensor,
         the largest over the loads (``inf`` for a rigid-body mode); 0 for a mode no load reaches.
     loads, sensors : list of str, length m
-        The load and the sensor of each mode's share ('' where it is 0).
+        The load and where each mode's share is read, 'at SENSOR' ('' where it is 0).
     """
 
     frequencies: np.ndarray
@@ -425,8 +425,9 @@ def sudden_loads(model, kick, initial, accel, impulse=None):
     if kick is not None:
         loads.append((f"the impulse at {impulse}" if impulse else "the impulse", kick, 1))
     if initial == "rest" and np.any(model.gravity):
-        M = _start_matrices(model, 0.0)[0]
-        step = M @ gravity_acceleration(model) + accel * drive_reaction(model)
+        from ..assembly import constant_matrices
+
+        step = constant_matrices(model)[0] @ gravity_acceleration(model) + accel * drive_reaction(model)
         loads.append(("the weights set on at rest", step, 2))
     return loads
 
@@ -475,7 +476,7 @@ def reached_modes(model, speed, loads) -> Reach:
         share = at.max(axis=0) / largest
         for j in np.nonzero(~rigid & (share > shares))[0]:
             shares[j], which[j] = share[j], name
-            where[j] = names[int(np.argmax(at[:, j]))] if seen is not None else "the motion (no sensors)"
+            where[j] = f"at {names[int(np.argmax(at[:, j]))]}" if seen is not None else "no sensors: the motion's M-norm"
     return Reach(frequencies=frequencies, shares=shares, loads=which, sensors=where)
 
 
@@ -503,7 +504,7 @@ def _mode_words(reach, j) -> str:
     share = 100 * reach.shares[j]
     shown = f"{share:.0f}" if share >= 10 else f"{share:.2g}"
     return (f"undamped mode {j + 1} ({reach.frequencies[j] / (2 * np.pi):,.0f} Hz), {shown} % of the largest modal "
-            f"response to {reach.loads[j]} (at {reach.sensors[j]})")
+            f"response to {reach.loads[j]} ({reach.sensors[j]})")
 
 
 def _warn_unresolved(reach, count, duration, below, given):

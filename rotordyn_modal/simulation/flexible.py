@@ -568,7 +568,8 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
         kick = _impulse_load(model, impulse, float(impulse_size))
     loads = () if kick is None else (kick,)
     sudden_ones = sudden_loads(model, kick, initial, accel, impulse)
-    reach = reached_modes(model, speed, sudden_ones) if sudden_ones else None
+    # what the loads reach: for the default basis and output times, or the given output times' warning
+    reach = reached_modes(model, speed, sudden_ones) if sudden_ones and (modes_below is None or samples) else None
     spin_count = None
     if modes_below is None and reach is not None:
         # every mode the output times can show as itself (the spin's default ones, or those given),

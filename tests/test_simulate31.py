@@ -69,8 +69,9 @@ def test_an_impulse_at_rest_or_at_a_slow_spin_is_the_linear_models_impulse_respo
 
 
 def test_the_default_output_times_at_rest_resolve_the_modes_the_basis_keeps(examples_dir):
-    """At rest the default output times are 20 per period of the fastest of the lowest modes the
-    basis keeps for the spin (the six lowest, from the model's own eigenvalues here), and under an
+    """At rest the default output times are at least 20 per period of the fastest of the lowest
+    modes the basis keeps for the spin (the six lowest, from the model's own eigenvalues here; since
+    sim32 more where the impulse reaches faster modes: tests/test_simulate32.py), and under an
     impulse the basis holds every mode below their Nyquist frequency (main: 201 output times over
     1 s, under 2 per period of the sixth mode, 444 Hz)."""
     from rotordyn_modal.simulation.flexible import output_nyquist, reduced_system
@@ -79,7 +80,7 @@ def test_the_default_output_times_at_rest_resolve_the_modes_the_basis_keeps(exam
     M, C, G, K = model.matrices(0.0)
     sixth = np.sqrt(np.sort(scipy.linalg.eigvalsh(0.5 * (K + K.T), 0.5 * (M + M.T)))[5])
     run = rdm.simulate(model, 1.0, 0.0, impulse="shaker-y", impulse_size=1.0, samples=None)
-    assert len(run.time) == int(20 * sixth / (2 * np.pi) * 1.0 + 1)
+    assert len(run.time) >= int(20 * sixth / (2 * np.pi) * 1.0 + 1)
     nyquist = output_nyquist(len(run.time), 1.0)
     assert nyquist > 8 * sixth
     values = np.sqrt(np.abs(scipy.linalg.eigvalsh(0.5 * (K + K.T), 0.5 * (M + M.T))))

@@ -60,9 +60,13 @@ carry, is integrated as its linear model instead (said once on stderr; docs/simu
 the spinning machine (M q'' + (C + w G) q' + K q = unbalance forces, w the drive speed), the
 unbalances as rotating forces (with their angular-acceleration part on a ramp). It keeps the
 undamped modes below 4 times the fastest spin frequency (at least the 6 lowest; after an
-impulse (--excitation), or weights set on from --initial rest, also every mode below the
-Nyquist frequency of the output times, what they can show: at rest the spin gives none) plus the
-static deflections under the unbalances and weights; --max-frequency HZ sets that limit,
+impulse (--excitation), or weights set on from --initial rest, also every mode carrying over
+0.1 % of that load's largest modal response at a sensor, and every mode below the Nyquist
+frequency of the output times: at rest the spin gives none) plus the static deflections under
+the unbalances and weights; the default output times then also give 10 a period of the fastest
+mode the load reaches (said on stderr past 10 times the usual count, else with --verbose), and
+--samples that cannot resolve a mode carrying over 1 % get a warning naming it (docs/simulate.md,
+'Under a sudden load'); --max-frequency HZ sets that limit,
 'all' keeps every mode (the linear model exactly, slower). --free-spin is refused with such
 a model (exit 2); a plain journal bearing (type = 'journal') keeps its film's nonlinear force
 on the linear structure (oil whirl and whip of flexible rotors; the basis then also holds the
@@ -111,7 +115,8 @@ def add_arguments(parser):
     add_alias(parser, "--excitation", "--impulse")
     parser.add_argument("--impulse-size", default="1", metavar="J", help="impulse [N s] (N m s for a moment), default 1")
     parser.add_argument("--samples", type=whole_number, metavar="N", help="number of output times (default: 20 per period of the "
-                        "fastest spin or natural frequency)")
+                        "fastest spin or natural frequency; flexible rotors after a sudden load also 10 per "
+                        "period of the fastest mode it reaches)")
     parser.add_argument("--rtol", default="1e-9", metavar="R", help="relative tolerance of the integrator (default 1e-9)")
     parser.add_argument("--atol", default="1e-12", metavar="A", help="absolute tolerance of the integrator (default 1e-12)")
     parser.add_argument("--backend", choices=["auto", "numba", "numpy"], default="auto",

@@ -15,7 +15,8 @@ disks, bearings at each rotor's own speed, mounts), the unbalances as rotating f
 reaction of the eccentric mass's acceleration: it lags on a run-up)
 (``theta = r_j phi + phase``) and the weights ``f_g = M a_g`` (gravity as a uniform
 acceleration ``a_g`` of every body). ``q = V eta`` on a speed-independent basis: the undamped
-modes at the start speed below a cutoff (at least the lowest :data:`LOWEST`) plus the static
+modes at the start speed below a cutoff (at least the lowest :data:`LOWEST`; under a sudden load
+also the modes it reaches at the sensors, :func:`reached_modes`) plus the static
 deflections under the unbalances', weights' and impulse's forces that those modes leave out
 (modal truncation augmentation), made M-orthonormal by a Rayleigh-Ritz step. With every mode
 kept the reduction is exact. Plain journal bearings are left out of the matrices and push their
@@ -25,6 +26,7 @@ the basis then also holds the static deflections under forces at the journals.
 
 from __future__ import annotations
 
+import logging
 import re
 import sys
 from types import SimpleNamespace
@@ -38,7 +40,7 @@ from ._system import IntegrationFailed, announce_compilation
 from .flexible_journal import film_load
 
 __all__ = ["simulate_linear", "reduced_system", "ReducedSystem", "NOTICE", "LINEAR_ONLY_NOTICE", "linear_only", "LOWEST",
-           "CUTOFF_FACTOR"]
+           "CUTOFF_FACTOR", "reached_modes", "Reach", "REACHED_SHARE", "WARNED_SHARE", "POINTS_PER_PERIOD"]
 
 #: printed once per process on stderr when a machine with a flexible rotor is simulated
 NOTICE = ("simulate: the model has a flexible rotor: the machine is integrated as its linear model (small "
@@ -54,6 +56,22 @@ LINEAR_ONLY_NOTICE = ("simulate: the model has {what}, which the nonlinear large
 LOWEST = 6
 #: by default the basis keeps the modes below this multiple of the fastest spin frequency
 CUTOFF_FACTOR = 4.0
+#: under a sudden load the default basis keeps, and the default output times resolve, every mode
+#: whose response at a sensor is more than this share of the load's largest modal response at the
+#: sensors (:func:`reached_modes`)
+REACHED_SHARE = 1e-3
+#: ``samples`` given (or the default's cap) that leave a mode carrying more than this share
+#: unresolved (under :data:`POINTS_PER_PERIOD` output times a period) get one warning line
+WARNED_SHARE = 1e-2
+#: output times per period of the fastest mode a sudden load reaches, by default
+POINTS_PER_PERIOD = 10
+#: default output times raised past this multiple of the spin's default are said on stderr
+#: always (else on the log: ``--verbose``)
+ANNOUNCED_GROWTH = 10
+#: a mode whose squared frequency is at most this share of the largest is a rigid-body mode:
+#: kept always, outside the shares (its response to a load does not stay bounded)
+_RIGID_SHARE = 1e-12
+_LOG = logging.getLogger("rotordyn_modal.simulation")
 _NOTICED: list = []
 
 
@@ -273,18 +291,12 @@ def reduced_system(model, speed: float, cutoff: float, extra_loads=(), phases_de
         constant parts; their films are ``films``, and the basis holds the static deflections
         under unit forces at the journals (:func:`flexible_journal.attachment_loads`).
     """
-    from ..assembly import bearing_motion, constant_matrices
+    from ..assembly import bearing_motion
     from . import flexible_journal
 
-    M, C, G, K = constant_matrices(model)
-    dependent = [b for b in model.bearings if b.coefficients.kind not in ("constant", "journal")]
+    M, C, G, K, K_start, dependent = _start_matrices(model, speed)
     if flexible_journal.journal_bearings(model):
-        k_j, c_j = flexible_journal.constant_parts(model)
-        K, C = K + k_j, C + c_j
         extra_loads = (*extra_loads, *flexible_journal.attachment_loads(model))
-    K_start = K.copy()
-    if dependent:
-        K_start += _bearings_stiffness(model, dependent, speed)
     ratio, phase, amount, Fa, Fb = unbalance_loads(model, phases_deg)
     gravity = M @ gravity_acceleration(model) if np.any(model.gravity) else np.zeros(len(M))
     reaction = drive_reaction(model)
@@ -299,6 +311,25 @@ def reduced_system(model, speed: float, cutoff: float, extra_loads=(), phases_de
                          G=V.T @ G @ V, dependent=tuple(moves), ratio=ratio, phase=phase, amount=amount,
                          Fa=Fa @ V, Fb=Fb @ V, gravity=gravity @ V, reaction=reaction @ V,
                          films=flexible_journal.films(model, V))
+
+
+def _start_matrices(model, speed):
+    """The linear time model's ``M, C, G, K`` without the speed-dependent bearings (with only the
+    constant parts of journal bearings), ``K_start`` with those bearings at reference speed
+    ``speed`` [rad/s] (the stiffness whose undamped modes make the basis), and the list of the
+    speed-dependent bearings."""
+    from ..assembly import constant_matrices
+    from . import flexible_journal
+
+    M, C, G, K = constant_matrices(model)
+    dependent = [b for b in model.bearings if b.coefficients.kind not in ("constant", "journal")]
+    if flexible_journal.journal_bearings(model):
+        k_j, c_j = flexible_journal.constant_parts(model)
+        K, C = K + k_j, C + c_j
+    K_start = K.copy()
+    if dependent:
+        K_start += _bearings_stiffness(model, dependent, speed)
+    return M, C, G, K, K_start, dependent
 
 
 def _bearings_stiffness(model, bearings, speed) -> np.ndarray:
@@ -340,6 +371,161 @@ def _basis(M, K, loads, cutoff):
     return (np.hstack([kept, Q @ R]), np.concatenate([frequencies, np.sqrt(np.abs(ritz))]), keep)
 
 
+@dataclass(frozen=True)
+class Reach:
+    """How much of each sudden load's response at the sensors each undamped mode carries.
+
+    Attributes
+    ----------
+    frequencies : ndarray, shape (m,) [rad/s]
+        The undamped modes of the basis's pencil at the start speed (:func:`reduced_system`),
+        ascending; mode ``j + 1`` is ``frequencies[j]``.
+    shares : ndarray, shape (m,)
+        Each mode's largest response at a sensor over the largest of every mode at every sensor,
+        the largest over the loads (``inf`` for a rigid-body mode); 0 for a mode no load reaches.
+    loads, sensors : list of str, length m
+        The load and where each mode's share is read, 'at SENSOR' ('' where it is 0).
+    """
+
+    frequencies: np.ndarray
+    shares: np.ndarray
+    loads: list
+    sensors: list
+
+    def fastest(self, share) -> float:
+        """The highest frequency [rad/s] of the elastic modes carrying more than ``share`` (0 if none)."""
+        reached = np.isfinite(self.shares) & (self.shares > share)
+        return float(self.frequencies[reached].max(initial=0.0))
+
+    def spin_top(self, cutoff) -> float:
+        """The highest frequency [rad/s] of the modes a basis of ``cutoff`` [rad/s] keeps (those
+        below it, at least the :data:`LOWEST` lowest)."""
+        keep = max(int(np.sum(self.frequencies < cutoff)), min(LOWEST, len(self.frequencies)))
+        return float(self.frequencies[:keep].max(initial=0.0))
+
+    def unresolved(self, step, share, below=np.inf):
+        """Index of the mode carrying most (more than ``share``) of those below ``below``
+        [rad/s] that get under :data:`POINTS_PER_PERIOD` output times of ``step`` [s] a period,
+        and how many such modes there are; ``(None, 0)`` when there is none."""
+        points = 2 * np.pi / np.maximum(self.frequencies * step, 1e-300)
+        short = np.isfinite(self.shares) & (self.shares > share) & (points < POINTS_PER_PERIOD) & \
+            (self.frequencies < below)
+        if not short.any():
+            return None, 0
+        return int(np.argmax(np.where(short, self.shares, -1.0))), int(short.sum())
+
+
+def sudden_loads(model, kick, initial, accel, impulse=None):
+    """The sudden loads of a run, each ``(name, generalized force (n,), power)``: the impulse's
+    (``power`` 1: the modes' velocity jump ``phi^T J`` rings at ``phi^T J / w``) and, from
+    ``initial='rest'`` under ``gravity``, the weights (with a ramp's drive reaction) set on at
+    t = 0 (``power`` 2: a step ``F`` rings about ``phi^T F / w^2``). Empty without one
+    (:func:`sudden`)."""
+    loads = []
+    if kick is not None:
+        loads.append((f"the impulse at {impulse}" if impulse else "the impulse", kick, 1))
+    if initial == "rest" and np.any(model.gravity):
+        from ..assembly import constant_matrices
+
+        step = constant_matrices(model)[0] @ gravity_acceleration(model) + accel * drive_reaction(model)
+        loads.append(("the weights set on at rest", step, 2))
+    return loads
+
+
+def reached_modes(model, speed, loads) -> Reach:
+    """Each undamped mode's share of the sudden ``loads``' response at the model's sensors.
+
+    A load ``L`` rings mode ``j`` (M-normalised shape ``phi_j``, frequency ``w_j``) with the
+    amplitude ``|phi_j^T L| / w_j^p`` (``p`` 1 for an impulse, 2 for a step), which a sensor of
+    row ``c`` reads as ``|c phi_j|`` times it. A mode's share of a load is the largest of these
+    over the sensors, over the largest of every mode at every sensor (without sensors: the modal
+    amplitude itself, the motion's M-norm). Damping and the spin are left out (an estimate that
+    sets the default basis and output times).
+
+    Parameters
+    ----------
+    model : Model
+    speed : float
+        Reference speed [rad/s] of the speed-dependent bearings, as :func:`reduced_system`.
+    loads : sequence of (str, ndarray (n,), int)
+        ``(name, generalized force [N s or N], power)`` (:func:`sudden_loads`).
+
+    Returns
+    -------
+    Reach
+    """
+    import scipy.linalg
+
+    from ..assembly import sensor_rows
+
+    M, _, _, _, K_start, _ = _start_matrices(model, speed)
+    values, vectors = scipy.linalg.eigh(0.5 * (K_start + K_start.T), 0.5 * (M + M.T))
+    frequencies = np.sqrt(np.abs(values))
+    rigid = values <= _RIGID_SHARE * np.abs(values).max(initial=0.0)
+    shares = np.where(rigid, np.inf, 0.0)
+    names = [s.name for s in model.sensors]
+    seen = sensor_rows(model) @ vectors if names else None                # (sensors, modes)
+    which, where = [""] * len(values), [""] * len(values)
+    for name, load, power in loads:
+        amplitude = np.zeros(len(values))
+        amplitude[~rigid] = np.abs(vectors[:, ~rigid].T @ load) / frequencies[~rigid] ** power
+        at = np.abs(seen) * amplitude if seen is not None else amplitude[None]
+        largest = at.max(initial=0.0)
+        if not largest > 0:
+            continue
+        share = at.max(axis=0) / largest
+        for j in np.nonzero(~rigid & (share > shares))[0]:
+            shares[j], which[j] = share[j], name
+            where[j] = f"at {names[int(np.argmax(at[:, j]))]}" if seen is not None else "no sensors: the motion's M-norm"
+    return Reach(frequencies=frequencies, shares=shares, loads=which, sensors=where)
+
+
+def resolving_samples(rate, duration) -> int:
+    """Output times over ``duration`` [s] with :data:`POINTS_PER_PERIOD` a period of ``rate``
+    [rad/s] (at most 2,000,001, as :func:`._system.default_samples`)."""
+    return int(min(np.ceil(POINTS_PER_PERIOD * rate / (2 * np.pi) * duration) + 1, 2_000_001))
+
+
+def _say(line, loud):
+    """``line`` on stderr after 'simulate: ' when ``loud`` (beside a progress bar, not through it),
+    else on the log (``--verbose`` shows it)."""
+    if not loud:
+        _LOG.info(line)
+        return
+    from tqdm import tqdm
+
+    tqdm.write("simulate: " + line, file=sys.stderr)
+    sys.stderr.flush()
+
+
+def _mode_words(reach, j) -> str:
+    """'undamped mode 9 (8,979 Hz), 35 % of the largest modal response to the impulse at shaker-y
+    (at probe-x)' for the message lines."""
+    share = 100 * reach.shares[j]
+    shown = f"{share:.0f}" if share >= 10 else f"{share:.2g}"
+    return (f"undamped mode {j + 1} ({reach.frequencies[j] / (2 * np.pi):,.0f} Hz), {shown} % of the largest modal "
+            f"response to {reach.loads[j]} ({reach.sensors[j]})")
+
+
+def _warn_unresolved(reach, count, duration, below, given):
+    """One warning line when ``count`` output times over ``duration`` [s] leave a mode (below
+    ``below`` [rad/s], so in the basis) that carries more than :data:`WARNED_SHARE` of a sudden
+    load's response with under :data:`POINTS_PER_PERIOD` times a period."""
+    import warnings
+
+    step = duration / (count - 1)
+    j, many = reach.unresolved(step, WARNED_SHARE, below)
+    if j is None:
+        return
+    points = 2 * np.pi / (reach.frequencies[j] * step)
+    needed = resolving_samples(reach.fastest(WARNED_SHARE), duration)
+    others = f" (and {many - 1} other mode{'s' if many > 2 else ''})" if many > 1 else ""
+    what = f"{count:,} output times (samples)" if given else f"the default output times, capped at {count:,},"
+    warnings.warn(f"{what} give {points:.2g} a period of {_mode_words(reach, j)}{others}: under "
+                  f"{POINTS_PER_PERIOD} a period draw it coarsely, under 2 fold it onto a slower frequency; "
+                  f"{needed:,} output times resolve every mode above {100 * WARNED_SHARE:g} %", stacklevel=3)
+
+
 def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impulse, impulse_size, samples,
                     rtol, atol, unbalance_phases_deg, modes_below, progress, backend="auto"):
     """:func:`rotordyn_modal.simulation.simulate` of a machine with a flexible rotor (its
@@ -349,12 +535,18 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     ----------
     modes_below : float or None
         Cutoff of the basis [rad/s] (None: :data:`CUTOFF_FACTOR` times the fastest spin, at
-        least the :data:`LOWEST` lowest modes; under a sudden load, :func:`sudden` -- an impulse,
-        or the weights from ``initial='rest'`` --, at least the output times' Nyquist frequency
-        :func:`output_nyquist`, so that at rest or at a slow spin the basis keeps every mode the
-        output times can show; ``inf``: every mode, the linear model exactly). The default output
-        times are 20 per period of the fastest of the spin and the modes kept for the spin (the
-        :data:`LOWEST` lowest at least), at least 201.
+        least the :data:`LOWEST` lowest modes; under a sudden load, :func:`sudden_loads` -- an
+        impulse, or the weights from ``initial='rest'`` --, also every mode carrying over
+        :data:`REACHED_SHARE` of a load's largest modal response at a sensor
+        (:func:`reached_modes`) and every mode below the output times' Nyquist frequency
+        :func:`output_nyquist` (of ``samples``, or of the spin's default output times); ``inf``:
+        every mode, the linear model exactly). The default output times are 20 per period of the
+        fastest of the spin and the modes kept for the spin (the :data:`LOWEST` lowest at least),
+        at least 201, and under a sudden load (``modes_below`` None) :data:`POINTS_PER_PERIOD` per
+        period of the fastest mode over :data:`REACHED_SHARE` where that is more (said on the log,
+        on stderr past :data:`ANNOUNCED_GROWTH` times). Given ``samples`` under
+        :data:`POINTS_PER_PERIOD` a period of a mode in the basis over :data:`WARNED_SHARE` give
+        one ``UserWarning`` naming it.
 
     Returns
     -------
@@ -375,20 +567,28 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     if impulse is not None:
         kick = _impulse_load(model, impulse, float(impulse_size))
     loads = () if kick is None else (kick,)
+    sudden_ones = sudden_loads(model, kick, initial, accel, impulse)
+    # what the loads reach: for the default basis and output times, or the given output times' warning
+    reach = reached_modes(model, speed, sudden_ones) if sudden_ones and (modes_below is None or samples) else None
+    spin_count = None
+    if modes_below is None and reach is not None:
+        # every mode the output times can show as itself (the spin's default ones, or those given),
+        # and every mode the sudden loads reach at the sensors (the margin takes a repeated pair whole)
+        spin_count = default_samples(max(fastest, reach.spin_top(cutoff)), duration)
+        cutoff = max(cutoff, output_nyquist(samples or spin_count, duration), 1.01 * reach.fastest(REACHED_SHARE))
     system = reduced_system(model, speed, cutoff, loads, unbalance_phases_deg)
     below = system.frequencies[:system.modes]
     rate = max(fastest, below[below < cutoff].max(initial=0.0) if np.isfinite(cutoff) else below.max(initial=0.0))
     check_duration(duration, rate)
     check_resolution(duration, max(rate, system.frequencies.max(initial=0.0)), samples)   # every basis motion
-    # the output times resolve every mode kept, the lowest ones kept below the cutoff included
-    # (at rest the cutoff is 0: main sampled the six lowest 201 times whatever the duration)
-    count = samples or default_samples(max(fastest, below.max(initial=0.0)), duration)
-    if modes_below is None and sudden(model, impulse, initial):
-        seen = output_nyquist(count, duration)
-        if seen > cutoff:
-            cutoff = seen
-            system = reduced_system(model, speed, cutoff, loads, unbalance_phases_deg)
-            check_resolution(duration, system.frequencies.max(initial=0.0), samples)
+    if samples:
+        count = samples
+    elif spin_count is None:       # the output times resolve the spin and the modes kept for it
+        count = default_samples(max(fastest, below.max(initial=0.0)), duration)
+    else:
+        count = _reaching_count(reach, spin_count, duration)
+    if reach is not None and (samples or count == 2_000_001):
+        _warn_unresolved(reach, count, duration, cutoff, bool(samples))
     y0 = np.zeros(2 * system.size)
     if initial == "equilibrium" and system.films is not None:
         from .flexible_journal import equilibrium
@@ -419,6 +619,23 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     return _result(model, system, times, states, speed, accel, drive)
 
 
+def _reaching_count(reach, spin_count, duration) -> int:
+    """The default output times under a sudden load: the spin's (``spin_count``: 20 per period of
+    the fastest of the spin and the modes kept for it, the :data:`LOWEST` lowest at least), or
+    :data:`POINTS_PER_PERIOD` per period of the fastest mode the load reaches
+    (:data:`REACHED_SHARE`, ``reach``) where that is more, said in one line: on stderr when past
+    :data:`ANNOUNCED_GROWTH` times ``spin_count``, else on the log (``--verbose``)."""
+    top = reach.fastest(REACHED_SHARE)
+    count = max(spin_count, resolving_samples(top, duration))
+    if count > spin_count:
+        j = int(np.argmin(np.where(np.isfinite(reach.shares) & (reach.shares > REACHED_SHARE),
+                                   np.abs(reach.frequencies - top), np.inf)))
+        _say(f"{count:,} output times (not {spin_count:,}): {POINTS_PER_PERIOD} a period of "
+             f"{_mode_words(reach, j)} (the default resolves every mode carrying over {100 * REACHED_SHARE:g} % of a "
+             "sudden load's response at a sensor; --samples sets them)", count > ANNOUNCED_GROWTH * spin_count)
+    return count
+
+
 def sudden(model, impulse, initial) -> bool:
     """Whether the run starts with a sudden load, whose response holds every mode: an impulse, or
     the weights set on at t = 0 on a machine started undeformed (``initial='rest'`` under
@@ -429,7 +646,8 @@ def sudden(model, impulse, initial) -> bool:
 def output_nyquist(samples, duration) -> float:
     """The Nyquist frequency of ``samples`` output times over ``duration`` [s]: ``pi / step``
     [rad/s]. A motion faster than this folds onto a slower one in the output; one slower shows as
-    itself. Under a sudden load (:func:`sudden`) the default basis keeps the modes below it."""
+    itself. Under a sudden load (:func:`sudden`) the default basis keeps the modes below it (of the
+    given output times, or of the spin's default ones)."""
     return np.pi * (samples - 1) / duration
 
 

@@ -86,7 +86,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         [N s, or N m s for a moment].
     samples : int, optional
         Number of output times, evenly spaced over ``[0, duration]`` (default: 20 per period of
-        the fastest of the spin and the natural frequencies at rest, at least 201).
+        the fastest of the spin and the natural frequencies at rest, at least 201; in the linear
+        time model see ``modes_below``).
     rtol, atol : float
         Tolerances of the integrator: DOP853 (Hairer's Fortran code in ``scipy.integrate.ode``
         with the numba backend, ``scipy.integrate.solve_ivp`` with the numpy one).
@@ -104,9 +105,11 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         Only with a flexible rotor: the basis of the linear time model keeps the undamped modes
         (bearings' stiffness at the start ``speed``) below this [rad/s] (default: 4 times the
         fastest spin), at least the 6 lowest (:data:`rotordyn_modal.simulation.flexible.LOWEST`),
-        and after an impulse or with weights set on from ``initial='rest'`` at least the modes below
-        the output times' Nyquist frequency (at rest the spin gives no limit;
-        :func:`rotordyn_modal.simulation.flexible.output_nyquist`),
+        and after an impulse or with weights set on from ``initial='rest'`` also the modes carrying
+        over 1e-3 of that load's largest modal response at a sensor
+        (:func:`rotordyn_modal.simulation.flexible.reached_modes`; the default ``samples`` then give
+        10 a period of the fastest of them) and the modes below the output times' Nyquist frequency
+        (at rest the spin gives no limit; :func:`rotordyn_modal.simulation.flexible.output_nyquist`),
         plus the static deflections under the unbalances, weights and impulse; ``math.inf``
         keeps every mode (the linear model exactly, slower).
 

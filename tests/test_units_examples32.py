@@ -9,6 +9,14 @@ rendered from the same results. The two pages are compared item by item with the
 ``tests/test_report_units.py`` (same words; every number alike or the SI one times the exact factor
 of its unit, NIST SP 811, to the digits both show), and so are the texts of every figure (tick
 labels aside: their values differ by design); no SI unit is left on a US page or figure.
+
+The command line: ``critical-speeds``, ``modes --speed``, ``campbell``, ``unbalance`` and
+``static`` on every example in both systems, their printed tables and sentences compared by the
+same rules (each table cell by its column's unit or its row's ``unit``), their CSVs back in SI to
+1e-12 (the helpers of ``tests/test_csv_round_trip29.py``), every CSV column naming its unit; and
+``static``'s loads typed in US units (``--force``, ``--moment``, ``--transmitted-power``) against
+the same loads typed in SI.
+
 One test per example: pytest-xdist spreads them.
 """
 
@@ -19,10 +27,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_csv_round_trip29 import ENDINGS, ROW_UNITS, UNITLESS, _back_to_si
+from test_csv_round_trip29 import _same as _same_table
 from test_report import CASES as REPORT_CASES
 from test_report import MCS_RPM
 from test_report_browser_all import EXAMPLES as BROWSER_EXAMPLES
-from test_report_units import IN, NEUTRAL, SI_ONLY, _compare, _visible
+from test_report_units import IN, NEUTRAL, SI_ONLY, _compare, _same, _visible
 
 from rotordyn_modal.cli import main
 
@@ -173,10 +183,6 @@ def test_the_mode_shape_bars_in_us_units_divide_inches():
 
 # ---- the command line: every example's outputs in both systems ----
 
-from test_csv_round_trip29 import ENDINGS, ROW_UNITS, UNITLESS, _back_to_si, _run  # noqa: E402
-from test_csv_round_trip29 import _same as _same_table  # noqa: E402
-from test_report_units import FACTORS, _same  # noqa: E402
-
 EXAMPLE_FILES = sorted(p.stem for p in (ROOT / "examples").glob("*.toml") if not p.stem.endswith(".study"))
 _NUMBER = re.compile(r"^[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?$")
 #: the units a printed sentence names in a list, without a number ("checks (...; m, m/s)")
@@ -263,11 +269,6 @@ _NO_UNIT = {"source", "order", "mode", "whirl", "whirl_ratio", "damping_ratio", 
             "real_part", "output", "table", "kind", "name", "body", "on", "eccentricity", "case", "utilization", "side",
             "unit"}
 _UNIT_ENDINGS = ("_rpm", "_hz", "_deg", "_rad", "_m", "_N", "_Nm", "_Pa", "_in", "_lbf", "_lbfin", "_psi")
-
-
-def _cli(example, command, system, out, extra=()):
-    return _run(["--units", system, command, str(ROOT / "examples" / f"{example}.toml"), *_COMMANDS[command],
-                 *extra, "--out", str(out)])
 
 
 def _printed(argv):

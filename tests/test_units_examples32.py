@@ -181,6 +181,21 @@ def test_the_mode_shape_bars_in_us_units_divide_inches():
         plt.close(fig)
 
 
+
+def test_modes_plot_draws_the_bars_in_inches_with_units_us(monkeypatch, tmp_path):
+    """``modes --units us --plot`` (the bars, without --shape) is the chart of ``units='us'``."""
+    import matplotlib.pyplot as plt
+
+    import rotordyn_modal.cli.modes as command
+
+    drawn = []
+    monkeypatch.setattr(command, "save_figure", lambda fig, *a, **k: drawn.append(fig))
+    for system in ("si", "us"):
+        assert main(["--units", system, "modes", str(ROOT / "examples" / "motor_fan_minimal.toml"), "--speed", "3000",
+                     "--plot", str(tmp_path / "bars.png"), "--quiet"]) == 0
+    assert [fig.axes[0].get_ylabel().partition(",")[0] for fig in drawn] == ["|u| [m]", "|u| [in]"]
+    plt.close("all")
+
 # ---- the command line: every example's outputs in both systems ----
 
 EXAMPLE_FILES = sorted(p.stem for p in (ROOT / "examples").glob("*.toml") if not p.stem.endswith(".study"))

@@ -238,7 +238,7 @@ def _bars(result, wanted, args):
         if not args.quiet:
             print(f"--plot: modes 1-{_DEFAULT_BARS} of {count} drawn (choose with --modes; "
                   "--plot-shaft draws a shaft's modes along its axis)", file=sys.stderr)
-    return result.plot(modes=wanted)
+    return result.plot(modes=wanted, units=args.units)
 
 
 def _plot_shaft(result, model, wanted, args, path=None, option="--plot-shaft"):

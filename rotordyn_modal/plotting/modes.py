@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from ..units import rpm_text
+from ..units import rpm_text, unit_scale
 from ._style import WHIRL_STYLE
 
 __all__ = ["plot_modes"]
@@ -81,14 +81,21 @@ def small_number(value: float, sign: bool = False) -> str:
     return f"{value:+.2f}" if sign else f"{value:.3f}"
 
 
+def _translation_scale(result, units: str):
+    """Each coordinate's factor from SI to ``units``: a translation's (``u_x`` ...) the length
+    unit's, a rotation's 1 (radians in both systems)."""
+    factor = unit_scale("length", units)[0]
+    return np.array([factor if label.rpartition(".")[2].startswith("u_") else 1.0 for label in _labels(result)])
+
+
 #: by default a chart of panels with more than this many bars draws the lowest modes only, this
 #: many of them; panels per row as many as fit this width [inches] (at least one)
 _WIDE_BARS, _FIRST_WIDE, _WIDEST = 24, 6, 24.0
 
 
-def plot_modes(result, title: str | None = None, modes=None, columns: int | None = None):
-    """Bar chart of each oscillatory mode's coordinates: ``|shape|`` (translations in m,
-    rotations in rad) divided by the mode's largest, grouped by body (each group named above
+def plot_modes(result, title: str | None = None, modes=None, columns: int | None = None, units: str = "si"):
+    """Bar chart of each oscillatory mode's coordinates: ``|shape|`` (translations in m, or in in
+    with ``units='us'``; rotations in rad) divided by the mode's largest, grouped by body (each group named above
     its bars; the stator's names the rotors rigidly attached to it), titled with the whirl in
     the words of the report's modes table ("forward whirl", "backward whirl", "no whirl").
 
@@ -103,6 +110,10 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
         says so).
     columns : int, optional
         Panels per row (default up to 3, as many as fit :data:`_WIDEST` inches).
+    units : {'si', 'us'}
+        Unit of the translations before the division (docs/units.md): m (SI) or in (US
+        customary). A mode that both translates and rotates has other bars in either: a
+        translation of 0.0254 m is 1 in, its bar 39.37 times as high against a rotation's.
 
     Returns
     -------
@@ -125,8 +136,9 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
                              squeeze=False)
     for ax in axes.ravel()[len(modes):]:
         ax.set_visible(False)
+    scale = _translation_scale(result, units)
     for number, ax, m in zip(numbers, axes.ravel(), modes):
-        magnitude = np.abs(result.shapes[m])
+        magnitude = np.abs(result.shapes[m]) * scale
         ax.bar(np.arange(len(labels)), magnitude / magnitude.max(), color="tab:blue", tick_label=labels)
         if len(labels) > 6:
             ax.tick_params(axis="x", labelrotation=90, labelsize="x-small")
@@ -136,7 +148,7 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
         ax.set_ylim(0, 1.05)
         _name_bodies(ax, groups, len(labels))
         if ax.get_subplotspec().is_first_col():
-            ax.set_ylabel("|u| [m], |θ| [rad]\n÷ the mode's largest", fontsize="small")
+            ax.set_ylabel(f"|u| [{unit_scale('length', units)[1]}], |θ| [rad]\n÷ the mode's largest", fontsize="small")
     fig.suptitle((title or f"Mode shapes at {rpm_text(result.speed * 30 / np.pi)} rpm (|shape|, normalised)")
                  + (f"\nmodes 1\u2013{shown} of {len(oscillatory)} (modes=[...] draws others; plot_shaft_lines "
                     "draws a flexible rotor's shaft)" if shown < len(oscillatory) else ""))

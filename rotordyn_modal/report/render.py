@@ -447,7 +447,7 @@ def _modes(data, units) -> str:
         # two panels a row when the machine has many coordinates: their labels stay readable
         # two lines: one mode's panel is 3.2 in wide, and the title on one line ran off both its sides
         fig = result.plot(title=f"Mode shapes at the MCS\n{mcs:.6g} rpm, |shape| normalised", modes=numbers,
-                          columns=3 if len(result.dof_names) <= 6 else 2)
+                          columns=3 if len(result.dof_names) <= 6 else 2, **_units(units))
         what = "each coordinate's share of the mode (|shape|, normalised)"
     _renumbered(fig, {number: mode_label(number, label) for number, label in zip(numbers, tracked)})
     return "\n".join([

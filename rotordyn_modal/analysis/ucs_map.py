@@ -41,7 +41,6 @@ from ..linear_system import checked_mass_inverse
 from ..model._table import visible_names
 from ..model.geometry import skew
 from . import _arguments, _batches, _eigensolve, _vectors, _whirl
-from .tracking import track_modes
 
 __all__ = ["UcsMap", "BearingCurve", "Crossing", "ucs_map", "forward_critical_speeds"]
 
@@ -243,7 +242,7 @@ def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
     roots = parts.roots(grid)
     mine = np.searchsorted(grid, stiffness)
     found = _lowest_forward(_Roots(*(x[mine] for x in roots)), modes)
-    followed = _follow(parts, roots, grid, mine, modes, _following_order(parts, roots, grid))
+    followed = _follow(parts, roots, grid, mine, modes, _following_order(parts, roots, grid, mine, modes))
     curves = tuple(_bearing_curve(model, b, speeds, found) for b in chosen)
     crossings = _constant_crossings(curves, grid, followed) + _curve_crossings_all(parts, curves, grid, followed)
     return UcsMap(stiffness=stiffness, speeds=found, bearings=tuple(b.name for b in chosen), curves=curves,
@@ -315,12 +314,14 @@ class _Pencil:
         self.forms = _whirl.whirl_forms(model)
         self.rest, self.unit = _split_stiffness(model, chosen)
 
-    def roots(self, stiffness) -> "_Roots":
-        """:class:`_Roots` for the stiffness values (K,) [N/m]."""
+    def roots(self, stiffness, polish=True) -> "_Roots":
+        """:class:`_Roots` for the stiffness values (K,) [N/m] (``polish``: the lowest polished,
+        where ``polished`` asks it)."""
         stiffness = np.asarray(stiffness, dtype=float)
         K = self.rest + stiffness[:, None, None] * self.unit
+        exact = (self.rest, self.unit, stiffness, self.polished) if self.polished and polish else None
         return _synchronous_roots(self.M, self.G, K, self.forms, probe=_free_probe([self.rest, self.unit]),
-                                  exact=(self.rest, self.unit, stiffness, self.polished) if self.polished else None)
+                                  exact=exact)
 
     def weighted(self, shapes) -> np.ndarray:
         """Mass-weighted unit shapes (..., m, n) for the MAC."""
@@ -748,24 +749,139 @@ _SAME_SPEED = 1e-9
 _SAME_STIFFNESS = 1e-9
 
 
-def _following_order(parts, roots, grid) -> np.ndarray:
-    """Follow every root over the grid (G,) [N/m] by its shape (``tracking.track_modes``: the
-    MAC between neighbouring values, an optimal assignment with the trend of the signed
-    ``nu^-1/2`` where a step is ambiguous): ``order`` (G, m), ``order[i, label]`` the root of
-    mode ``label`` at ``grid[i]``.
+def _following_order(parts, roots, grid, mine, count) -> np.ndarray:
+    """Follow every root over the grid (G,) [N/m] along its branch: ``order`` (G, m),
+    ``order[i, label]`` the root of mode ``label`` at ``grid[i]``.
+
+    The roots are followed on a finer grid than the user's (:func:`_inserted`): points are
+    inserted (bisecting log k) wherever a step between neighbours leaves a root below the map's
+    highest speed without a clear continuation, until every such root finds one (MAC above
+    ``_CLEAR_MAC``), so the curves are the pencil's branches whatever the user's spacing: through
+    a veering (shapes exchanged over a short range of k) a curve keeps its rank and changes its
+    shape, where two modes do not couple they cross. Following by shape over a decade-wide step
+    jumped across the veering instead: grids of 5 and 161 values joined the roots otherwise
+    (``docs/level1_and_ucs.md``). Only the grid's own points are returned.
 
     Values closer than ``_SAME_STIFFNESS`` are one point of the following, the others' roots
     matched to its roots by their MAC (``scipy.optimize.linear_sum_assignment``): a step of one
     ulp (the user's 1e8 N/m moved by one ulp beside the bearings' own 1e8, a point of the grid
-    too) gave the next step's extrapolation no trend, and a decade-wide step was decided
-    otherwise (a 5-value map of examples/flexible_pump_on_mounts.toml showed 9 modes, 8 with
-    1e8 moved by one ulp)."""
+    too) was decided by round-off."""
     keep, owner = _distinct(grid)
-    weighted = parts.weighted(roots.shapes)
-    order = track_modes(1j * roots.signed[keep], weighted[keep])[np.searchsorted(keep, owner)]   # (G, m)
+    found = _Roots(*(x[keep] for x in roots))
+    weighted = parts.weighted(found.shapes)
+    users = np.searchsorted(keep, owner[mine])                      # the user's points among the kept
+    limit = _highest_speed(found, users, count)
+    values, at = grid[keep], np.arange(len(keep))
+    while True:          # the shown modes' highest speed is known once they are followed
+        values, found, weighted, at = _inserted(parts, values, found, weighted, at, limit)
+        order = _stepwise_order(weighted)
+        highest = _shown_highest(found, order, at[users], count)
+        if not highest > limit:
+            break
+        limit = highest
+    order = order[at][np.searchsorted(keep, owner)]                                    # (G, m)
     for i in np.nonzero(owner != np.arange(len(grid)))[0]:
-        reference = weighted[owner[i]][order[i]]
-        order[i] = linear_sum_assignment(-_vectors.mac_matrix(reference, weighted[i]))[1]
+        reference = weighted[at[np.searchsorted(keep, owner[i])]][order[i]]
+        order[i] = linear_sum_assignment(-_vectors.mac_matrix(reference, parts.weighted(roots.shapes[i])))[1]
+    return order
+
+
+#: a step between neighbouring stiffness values is clear where each root below the map's
+#: highest speed has a continuation (one root, or a group of equal ones) with a MAC above this
+_CLEAR_MAC = 0.9
+#: steps are halved (in log k) down to this relative width, no further: a veering narrower is a crossing
+_FINEST_STEP = 1e-5
+#: roots closer than this (relative) are one group, their shapes any basis of its space
+_SAME_ROOT = 1e-7
+
+
+def _highest_speed(found, users, count) -> float:
+    """The highest of the ``count``-th lowest forward critical speeds at the user's points
+    (rows ``users`` of ``found``) [rad/s]: the roots below it are followed with care first (inf
+    where a point has fewer: all roots)."""
+    low = _lowest_forward(_Roots(*(x[users] for x in found)), count)[:, -1]
+    return float(np.inf if np.isnan(low).any() else low.max())
+
+
+def _shown_highest(found, order, users, count) -> float:
+    """The highest critical speed [rad/s] at the last point of the modes followed by ``order`` (P, m)
+    that are among the ``count`` lowest forward critical speeds at some of the user's points
+    (rows ``users``): the roots below it must be followed with care (a mode's critical speed
+    grows with k along its branch)."""
+    rows = users[:, None]
+    low = _lowest_forward(_Roots(*(x[users] for x in found)), count)[:, -1:]
+    omega = found.omega[rows, order[users]]
+    shown = (found.forward[rows, order[users]] & ~(omega > low * (1 + _SAME_SPEED))).any(axis=0)
+    last = found.omega[-1, order[-1, shown]]
+    return float(last[np.isfinite(last)].max(initial=0.0))
+
+
+def _unclear(found, weighted, limit) -> np.ndarray:
+    """Whether each step between neighbouring points (P - 1,) leaves a root below ``limit``
+    [rad/s] (at either end; a root's critical speed only grows with k) without a clear
+    continuation: its MAC summed over a group of equal roots (``_SAME_ROOT``) at the other end
+    at most ``_CLEAR_MAC`` with every such group; or its continuation by the MAC passing
+    another root (:func:`_passing`): two roots that cross over a step may be a veering the
+    step jumped (their shapes exchanged and back), told from a crossing only by a finer step."""
+    if len(weighted) < 2:
+        return np.zeros(0, dtype=bool)
+    correlation = _vectors.mac_matrix(weighted[:-1], weighted[1:])                    # (P-1, m, m)
+    signed = found.signed
+    same = np.abs(signed[:, :, None] - signed[:, None, :]) <= _SAME_ROOT * np.abs(signed[:, :, None])
+    ahead = (correlation @ same[1:]).max(axis=-1)                   # (P-1, m): row i's best group at b
+    behind = (same[:-1] @ correlation).max(axis=-2)                 # (P-1, m): column j's best group at a
+    below = np.isfinite(found.omega) & (found.omega <= limit)
+    vague = ((below[:-1] & (ahead <= _CLEAR_MAC)) | (below[1:] & (behind <= _CLEAR_MAC))).any(axis=-1)
+    return vague | np.array([_passing(found.omega[i], found.omega[i + 1], _assigned(step), below[i])
+                             for i, step in enumerate(correlation)], dtype=bool)
+
+
+def _assigned(correlation) -> np.ndarray:
+    """The roots (m,) at the next point continuing each root by the optimal assignment of their
+    MAC (m, m)."""
+    return linear_sum_assignment(-correlation)[1]
+
+
+def _passing(start, end, continued, below) -> bool:
+    """Whether a root ``below`` (m,) bool, with critical speed ``start`` (m,) [rad/s] (increasing,
+    inf where none), continued by ``end[continued]``, passes another root or is passed by one
+    (speeds within ``_SAME_ROOT`` are equal)."""
+    after = end[continued]
+    finite = np.isfinite(start)
+    after, below = after[finite], below[finite]
+    lower_after = np.minimum.accumulate(after[::-1])[::-1]               # the lowest continuation of the roots above
+    passed = np.r_[lower_after[1:], np.inf] < after * (1 - _SAME_ROOT)
+    higher_before = np.maximum.accumulate(after)                          # the highest of the roots below
+    passes = np.r_[-np.inf, higher_before[:-1]] > after * (1 + _SAME_ROOT)
+    return bool(np.any(below & (passed | passes)))
+
+
+def _inserted(parts, values, found, weighted, at, limit):
+    """The points ``values`` (P,) [N/m] with their roots, more points inserted (the geometric
+    middle of each unclear step, :func:`_unclear`, all of a round in one batched solve, not
+    polished: only their shapes are used) until every step is clear or ``_FINEST_STEP`` wide.
+    ``at``: the indices of the given points among the returned ones."""
+    while True:
+        split = np.nonzero(_unclear(found, weighted, limit) & (values[1:] > values[:-1] * (1 + _FINEST_STEP)))[0]
+        if not len(split):
+            return values, found, weighted, at
+        middle = np.sqrt(values[split] * values[split + 1])
+        new = parts.roots(middle, polish=False)
+        place = np.argsort(np.r_[values, middle], kind="stable")
+        values = np.r_[values, middle][place]
+        found = _Roots(*(np.concatenate([x, y])[place] for x, y in zip(found, new)))
+        weighted = np.concatenate([weighted, parts.weighted(new.shapes)])[place]
+        at = np.argsort(place)[at]
+
+
+def _stepwise_order(weighted) -> np.ndarray:
+    """``order`` (P, m): each root followed from each point to the next by the optimal assignment
+    of its MAC (``scipy.optimize.linear_sum_assignment``; steps made clear by :func:`_inserted`)."""
+    order = np.empty(weighted.shape[:2], dtype=int)
+    order[0] = np.arange(weighted.shape[1])
+    correlation = _vectors.mac_matrix(weighted[:-1], weighted[1:])
+    for i, step in enumerate(correlation):
+        order[i + 1] = _assigned(step)[order[i]]
     return order
 
 

@@ -313,15 +313,18 @@ class _Pencil:
         self.G = gyroscopic_matrix(model)
         self.forms = _whirl.whirl_forms(model)
         self.rest, self.unit = _split_stiffness(model, chosen)
+        self._basis = None
 
     def roots(self, stiffness, polish=True) -> "_Roots":
-        """:class:`_Roots` for the stiffness values (K,) [N/m] (``polish``: the lowest polished,
-        where ``polished`` asks it)."""
+        """:class:`_Roots` for the stiffness values (K,) [N/m]. Without ``polish`` (points where
+        only the shapes are used, to follow the roots) the lowest are not polished and no root
+        is called forward."""
         stiffness = np.asarray(stiffness, dtype=float)
         K = self.rest + stiffness[:, None, None] * self.unit
         exact = (self.rest, self.unit, stiffness, self.polished) if self.polished and polish else None
-        return _synchronous_roots(self.M, self.G, K, self.forms, probe=_free_probe([self.rest, self.unit]),
-                                  exact=exact)
+        if self._basis is None:          # the machine's free motions: the same at every k
+            self._basis = _constrained_basis(self.M, self.M - 1j * self.G, _free_probe([self.rest, self.unit]))
+        return _synchronous_roots(self.M, self.G, K, self.forms, exact=exact, basis=self._basis, whirl=polish)
 
     def weighted(self, shapes) -> np.ndarray:
         """Mass-weighted unit shapes (..., m, n) for the MAC."""
@@ -376,14 +379,15 @@ def _free_probe(parts) -> np.ndarray:
     return probe
 
 
-def _synchronous_roots(M, G, K, forms, probe=None, exact=None) -> _Roots:
+def _synchronous_roots(M, G, K, forms, probe=None, exact=None, basis=None, whirl=True) -> _Roots:
     """:class:`_Roots` of ``K phi = Omega^2 (M - i G) phi`` for each of K (S, n, n), one batch;
     ``probe`` (n, n): a stiffness with the batch's free motions as its null space (default
     :func:`_free_probe` of the batch's matrices); ``exact``: ``(K_rest, K_unit, k, count)`` with ``K =
     K_rest + k K_unit`` (``k`` (S,)), where given the lowest ``count`` roots double precision leaves
-    inexact are polished (:func:`_polished`)."""
+    inexact are polished (:func:`_polished`); ``basis``: :func:`_constrained_basis` of the probe, where
+    known; without ``whirl`` no root is called forward (the whirl not computed)."""
     B = M - 1j * G
-    W = _constrained_basis(M, B, _free_probe(list(K)) if probe is None else probe)
+    W = _constrained_basis(M, B, _free_probe(list(K)) if probe is None else probe) if basis is None else basis
     if not W.shape[1]:                      # every motion free: no mode at all
         empty = np.zeros((len(K), 0))
         return _Roots(empty, empty, np.zeros((len(K), 0, len(M)), dtype=complex), empty.astype(bool))
@@ -409,6 +413,8 @@ def _synchronous_roots(M, G, K, forms, probe=None, exact=None) -> _Roots:
     finite = np.isfinite(omega)
     lam = 1j * np.where(finite, omega, 0.0)
     shapes = _eigensolve.resolve_repeated(lam, shapes, forms)
+    if not whirl:
+        return _Roots(omega, signed, shapes, np.zeros(omega.shape, dtype=bool))
     ratios = _whirl.whirl_ratios(shapes, forms, np.ones(len(K)))
     return _Roots(omega, signed, shapes, finite & (_whirl.whirl_labels(ratios) == "forward"))
 
@@ -768,20 +774,20 @@ def _following_order(parts, roots, grid, mine, count) -> np.ndarray:
     too) was decided by round-off."""
     keep, owner = _distinct(grid)
     found = _Roots(*(x[keep] for x in roots))
-    weighted = parts.weighted(found.shapes)
     users = np.searchsorted(keep, owner[mine])                      # the user's points among the kept
+    path = _Path(grid[keep], found, parts.weighted(found.shapes))
     limit = _highest_speed(found, users, count)
-    values, at = grid[keep], np.arange(len(keep))
     while True:          # the shown modes' highest speed is known once they are followed
-        values, found, weighted, at = _inserted(parts, values, found, weighted, at, limit)
-        order = _stepwise_order(weighted)
-        highest = _shown_highest(found, order, at[users], count)
+        _insert(parts, path, limit)
+        order = path.order()
+        highest = _shown_highest(_Roots(*(x[users] for x in found)), order[path.at()[users]], order[-1],
+                                 path.omega[path.last()], count)
         if not highest > limit:
             break
         limit = highest
-    order = order[at][np.searchsorted(keep, owner)]                                    # (G, m)
+    order, weighted = order[path.at()][np.searchsorted(keep, owner)], path.weighted   # (G, m)
     for i in np.nonzero(owner != np.arange(len(grid)))[0]:
-        reference = weighted[at[np.searchsorted(keep, owner[i])]][order[i]]
+        reference = weighted[np.searchsorted(keep, owner[i])][order[i]]
         order[i] = linear_sum_assignment(-_vectors.mac_matrix(reference, parts.weighted(roots.shapes[i])))[1]
     return order
 
@@ -803,37 +809,111 @@ def _highest_speed(found, users, count) -> float:
     return float(np.inf if np.isnan(low).any() else low.max())
 
 
-def _shown_highest(found, order, users, count) -> float:
-    """The highest critical speed [rad/s] at the last point of the modes followed by ``order`` (P, m)
-    that are among the ``count`` lowest forward critical speeds at some of the user's points
-    (rows ``users``): the roots below it must be followed with care (a mode's critical speed
-    grows with k along its branch)."""
-    rows = users[:, None]
-    low = _lowest_forward(_Roots(*(x[users] for x in found)), count)[:, -1:]
-    omega = found.omega[rows, order[users]]
-    shown = (found.forward[rows, order[users]] & ~(omega > low * (1 + _SAME_SPEED))).any(axis=0)
-    last = found.omega[-1, order[-1, shown]]
-    return float(last[np.isfinite(last)].max(initial=0.0))
+def _shown_highest(found, order, last, speeds, count) -> float:
+    """The highest critical speed [rad/s] at the last point (``speeds`` (m,), the roots followed
+    there by ``last`` (m,)) of the modes that are among the ``count`` lowest forward critical
+    speeds at some of the user's points (``found`` there, each mode's roots ``order`` (U, m)):
+    the roots below it must be followed with care (a mode's critical speed grows with k along
+    its branch)."""
+    rows = np.arange(len(order))[:, None]
+    low = _lowest_forward(found, count)[:, -1:]
+    omega = found.omega[rows, order]
+    shown = (found.forward[rows, order] & ~(omega > low * (1 + _SAME_SPEED))).any(axis=0)
+    highest = speeds[last[shown]]
+    return float(highest[np.isfinite(highest)].max(initial=0.0))
 
 
-def _unclear(found, weighted, limit) -> np.ndarray:
-    """Whether each step between neighbouring points (P - 1,) leaves a root below ``limit``
-    [rad/s] (at either end; a root's critical speed only grows with k) without a clear
-    continuation: its MAC summed over a group of equal roots (``_SAME_ROOT``) at the other end
-    at most ``_CLEAR_MAC`` with every such group; or its continuation by the MAC passing
-    another root (:func:`_passing`): two roots that cross over a step may be a veering the
-    step jumped (their shapes exchanged and back), told from a crossing only by a finer step."""
-    if len(weighted) < 2:
-        return np.zeros(0, dtype=bool)
-    correlation = _vectors.mac_matrix(weighted[:-1], weighted[1:])                    # (P-1, m, m)
-    signed = found.signed
-    same = np.abs(signed[:, :, None] - signed[:, None, :]) <= _SAME_ROOT * np.abs(signed[:, :, None])
-    ahead = (correlation @ same[1:]).max(axis=-1)                   # (P-1, m): row i's best group at b
-    behind = (same[:-1] @ correlation).max(axis=-2)                 # (P-1, m): column j's best group at a
-    below = np.isfinite(found.omega) & (found.omega <= limit)
-    vague = ((below[:-1] & (ahead <= _CLEAR_MAC)) | (below[1:] & (behind <= _CLEAR_MAC))).any(axis=-1)
-    return vague | np.array([_passing(found.omega[i], found.omega[i + 1], _assigned(step), below[i])
-                             for i, step in enumerate(correlation)], dtype=bool)
+class _Path:
+    """The points the roots are followed on, and the steps between neighbours.
+
+    Points are kept in the order they were made (the given ones first: ``at()``), each with its
+    stiffness (``values``) [N/m], critical speeds ``omega`` (m,) [rad/s] (inf where none), signed
+    ``nu^-1/2`` (``signed``) and mass-weighted unit shapes ``weighted`` (m, n); ``steps`` lists
+    the pairs of neighbours in increasing stiffness, each with its MAC (m, m), its continuation
+    (:func:`_assigned`) and whether it is unclear for the limit it was judged at."""
+
+    def __init__(self, values, found, weighted):
+        self.values, self.omega, self.signed, self.weighted = list(values), list(found.omega), list(found.signed), \
+            list(weighted)
+        self.given = len(values)
+        self.steps = [(i, i + 1) for i in range(len(values) - 1)]
+        self.correlation, self.assigned = self._judged(self.steps)
+        self.judged = [None] * len(self.steps)                   # (limit, unclear) of each step
+
+    def _judged(self, steps):
+        if not steps:
+            return [], []
+        a, b = (np.array([self.weighted[i] for i in ends]) for ends in zip(*steps))
+        correlation = list(_vectors.mac_matrix(a, b))
+        return correlation, [_assigned(c) for c in correlation]
+
+    def add(self, split, values, found, weighted):
+        """New points ``values`` (s,) in the steps ``split`` (s,) (indices, increasing)."""
+        new = []
+        for s, value, omega, signed, shapes in zip(split, values, found.omega, found.signed, weighted):
+            self.values.append(value), self.omega.append(omega), self.signed.append(signed)
+            self.weighted.append(shapes)
+            a, b = self.steps[s]
+            new += [(a, len(self.values) - 1), (len(self.values) - 1, b)]
+        correlation, assigned = self._judged(new)
+        for j, s in enumerate(reversed(split)):             # from the end: the indices before stay
+            k = 2 * (len(split) - 1 - j)
+            self.steps[s:s + 1] = new[k:k + 2]
+            self.correlation[s:s + 1] = correlation[k:k + 2]
+            self.assigned[s:s + 1] = assigned[k:k + 2]
+            self.judged[s:s + 1] = [None, None]
+
+    def unclear(self, limit) -> np.ndarray:
+        """:func:`_unclear` of every step (judged anew only where new or judged at another limit)."""
+        todo = [i for i, j in enumerate(self.judged) if j is None or j[0] != limit]
+        if todo:
+            a, b = (np.array(x) for x in zip(*[self.steps[i] for i in todo]))
+            flags = _unclear(np.array(self.omega)[a], np.array(self.omega)[b], np.array(self.signed)[a],
+                             np.array(self.signed)[b], np.array([self.correlation[i] for i in todo]),
+                             np.array([self.assigned[i] for i in todo]), limit)
+            for i, flag in zip(todo, flags):
+                self.judged[i] = (limit, bool(flag))
+        return np.array([j[1] for j in self.judged], dtype=bool)
+
+    def points(self) -> np.ndarray:
+        """The points' indices in increasing stiffness."""
+        return np.array([self.steps[0][0]] + [b for _, b in self.steps]) if self.steps else np.arange(self.given)
+
+    def at(self) -> np.ndarray:
+        """The given points' places in :meth:`points`."""
+        return np.argsort(self.points())[:self.given]
+
+    def last(self) -> int:
+        return int(self.points()[-1])
+
+    def order(self) -> np.ndarray:
+        """``order`` (P, m): each root followed from each point to the next (in increasing
+        stiffness) by its continuation."""
+        m = len(self.omega[0])
+        order = np.empty((len(self.steps) + 1, m), dtype=int)
+        order[0] = np.arange(m)
+        for i, step in enumerate(self.assigned):
+            order[i + 1] = step[order[i]]
+        return order
+
+
+def _unclear(start, end, signed_start, signed_end, correlation, assigned, limit) -> np.ndarray:
+    """Whether each step (S,) leaves a root below ``limit`` [rad/s] (at either end; a root's
+    critical speed only grows with k) without a clear continuation: its MAC (``correlation``
+    (S, m, m)) summed over a group of equal roots (``_SAME_ROOT``) at the other end at most
+    ``_CLEAR_MAC`` with every such group; or its continuation (``assigned`` (S, m)) passing
+    another root (:func:`_passing`): two roots that cross over a step may be a veering the step
+    jumped (their shapes exchanged and back), told from a crossing only by a finer step.
+    ``start``, ``end`` (S, m): the critical speeds at the steps' ends [rad/s] (inf where none),
+    ``signed_start``, ``signed_end`` their signed ``nu^-1/2``."""
+    def groups(signed):
+        return np.abs(signed[:, :, None] - signed[:, None, :]) <= _SAME_ROOT * np.abs(signed[:, :, None])
+    ahead = (correlation @ groups(signed_end)).max(axis=-1)                       # (S, m): row i's best group
+    behind = (groups(signed_start) @ correlation).max(axis=-2)                    # (S, m): column j's
+    below_start = np.isfinite(start) & (start <= limit)
+    below_end = np.isfinite(end) & (end <= limit)
+    vague = ((below_start & (ahead <= _CLEAR_MAC)) | (below_end & (behind <= _CLEAR_MAC))).any(axis=-1)
+    return vague | np.array([_passing(*x) for x in zip(start, end, assigned, below_start)], dtype=bool)
 
 
 def _assigned(correlation) -> np.ndarray:
@@ -856,33 +936,19 @@ def _passing(start, end, continued, below) -> bool:
     return bool(np.any(below & (passed | passes)))
 
 
-def _inserted(parts, values, found, weighted, at, limit):
-    """The points ``values`` (P,) [N/m] with their roots, more points inserted (the geometric
-    middle of each unclear step, :func:`_unclear`, all of a round in one batched solve, not
-    polished: only their shapes are used) until every step is clear or ``_FINEST_STEP`` wide.
-    ``at``: the indices of the given points among the returned ones."""
+def _insert(parts, path, limit) -> None:
+    """Add to ``path`` the geometric middle of each unclear step (:func:`_unclear`), all of a
+    round in one batched solve (not polished: only their shapes are used), until every step is
+    clear or ``_FINEST_STEP`` wide."""
     while True:
-        split = np.nonzero(_unclear(found, weighted, limit) & (values[1:] > values[:-1] * (1 + _FINEST_STEP)))[0]
+        values = np.array(path.values)
+        a, b = (np.array(x, dtype=int) for x in zip(*path.steps)) if path.steps else (np.zeros(0, int),) * 2
+        split = np.nonzero(path.unclear(limit) & (values[b] > values[a] * (1 + _FINEST_STEP)))[0]
         if not len(split):
-            return values, found, weighted, at
-        middle = np.sqrt(values[split] * values[split + 1])
+            return
+        middle = np.sqrt(values[a[split]] * values[b[split]])
         new = parts.roots(middle, polish=False)
-        place = np.argsort(np.r_[values, middle], kind="stable")
-        values = np.r_[values, middle][place]
-        found = _Roots(*(np.concatenate([x, y])[place] for x, y in zip(found, new)))
-        weighted = np.concatenate([weighted, parts.weighted(new.shapes)])[place]
-        at = np.argsort(place)[at]
-
-
-def _stepwise_order(weighted) -> np.ndarray:
-    """``order`` (P, m): each root followed from each point to the next by the optimal assignment
-    of its MAC (``scipy.optimize.linear_sum_assignment``; steps made clear by :func:`_inserted`)."""
-    order = np.empty(weighted.shape[:2], dtype=int)
-    order[0] = np.arange(weighted.shape[1])
-    correlation = _vectors.mac_matrix(weighted[:-1], weighted[1:])
-    for i, step in enumerate(correlation):
-        order[i + 1] = _assigned(step)[order[i]]
-    return order
+        path.add(split, middle, new, parts.weighted(new.shapes))
 
 
 def _distinct(grid):

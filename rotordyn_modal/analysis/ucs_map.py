@@ -12,8 +12,11 @@ frequency equals ``Omega`` (order 1 of the reference rotor). With ``lambda = i O
 so every critical speed of every ``k`` comes from one batched Hermitian eigen-solve, no search:
 ``(M - i G) phi = nu K phi`` (``K`` positive definite once the machine's free motions are set
 apart) gives real ``nu`` and ``Omega = nu^-1/2`` for ``nu > 0``. Each mode is followed over
-the stiffness by its shape (``tracking.track_modes``), so that a curve of the map is one mode
-(curves may cross), named by the body and motion with most of its kinetic energy. A mode whose
+the stiffness along its branch of the pencil (by the MAC, on points inserted wherever a step of
+the user's grid is unclear: the curves do not depend on the grid's spacing), so that a curve of
+the map is one branch: through a veering it keeps its order and changes its shape, where two
+modes do not couple the curves cross. Each is named by the body and motion with most of its
+kinetic energy at its two ends. A mode whose
 gyroscopic stiffening outruns the speed (a disc's forward conical mode, polar above diametral
 inertia) has ``nu <= 0``: no critical speed. Forward or backward is the package's whirl ratio of ``phi``
 (``docs/theory.md``), repeated roots resolved into their circular combinations as everywhere.
@@ -120,7 +123,8 @@ class UcsMap:
         Operating speed range, drawn as a band (low = high: one rated speed, drawn as a line).
     title : str
     mode_speeds : ndarray, shape (K, L) [rad/s]
-        The modes drawn on the map, each followed over the stiffness by its shape:
+        The modes drawn on the map, each followed over the stiffness along its branch (through
+        a veering it keeps its order, its shape changing; the same whatever the grid's spacing):
         ``mode_speeds[i, j]`` is mode j+1's forward critical speed at ``stiffness[i]``, nan where
         it is none (it whirls backward or not at all there, or outruns the speed). The modes
         are those among the ``m`` lowest forward critical speeds at some stiffness, numbered by
@@ -716,7 +720,7 @@ def _evaluated(coefficients, ratio, grid, where):
 
 
 class _Followed(NamedTuple):
-    """The modes shown on the map, each followed over the stiffness grid by its shape.
+    """The modes shown on the map, each followed over the stiffness grid along its branch.
 
     ``order`` (G, n_shown): the root index of each shown mode at each grid stiffness;
     ``speeds`` (G, n_shown) [rad/s], nan where the mode is not a forward critical speed;

@@ -25,7 +25,7 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     """Forward critical speeds of the followed modes against the chosen bearings' stiffness.
 
     Log-log axes: bearing stiffness [N/m] across, speed [rpm] up. Each mode, followed over the
-    stiffness by its shape (curves may cross), is a coloured line named at its right end and in
+    stiffness along its branch (curves may cross), is a coloured line named at its right end and in
     the legend ("2 pump conical"); where it stops (or starts) being a forward critical speed
     inside the sweep its curve ends at a square, its number beside it. The axis runs on past the sweep's last
     stiffness, where the rigid-support asymptotes (the chosen bearings radially rigid) are

@@ -179,6 +179,8 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
     long; '31315/34642' stands 8 points from its circles. Two circles only: a chain of such
     circles (the fan's, every bearing chosen) grouped five speeds on one label 48 points away."""
     before = _leader_lengths(ax, drawn)
+    if not before:                     # no label drawn (all in the note)
+        return
     text, longest = max(before.items(), key=lambda item: item[1])
     if longest <= _LONG_LEADER:
         return
@@ -209,7 +211,7 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
     named = {part: length for label, length in before.items() for part in label.split("/")}
     fair = all(length <= max(named.get(part, 0.0) for part in label.split("/")) + 0.5
                for label, length in after.items())
-    if max(after.values()) < longest and fair and through[0] <= crossing[0] and sum(through) <= sum(crossing):
+    if max(after.values(), default=0.0) < longest and fair and through[0] <= crossing[0] and sum(through) <= sum(crossing):
         for t in drawn:
             t.remove()
         drawn[:] = paired

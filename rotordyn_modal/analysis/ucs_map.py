@@ -12,8 +12,11 @@ frequency equals ``Omega`` (order 1 of the reference rotor). With ``lambda = i O
 so every critical speed of every ``k`` comes from one batched Hermitian eigen-solve, no search:
 ``(M - i G) phi = nu K phi`` (``K`` positive definite once the machine's free motions are set
 apart) gives real ``nu`` and ``Omega = nu^-1/2`` for ``nu > 0``. Each mode is followed over
-the stiffness by its shape (``tracking.track_modes``), so that a curve of the map is one mode
-(curves may cross), named by the body and motion with most of its kinetic energy. A mode whose
+the stiffness along its branch of the pencil (by the MAC, on points inserted wherever a step of
+the user's grid is unclear: the curves do not depend on the grid's spacing), so that a curve of
+the map is one branch: through a veering it keeps its order and changes its shape, where two
+modes do not couple the curves cross. Each is named by the body and motion with most of its
+kinetic energy at its two ends. A mode whose
 gyroscopic stiffening outruns the speed (a disc's forward conical mode, polar above diametral
 inertia) has ``nu <= 0``: no critical speed. Forward or backward is the package's whirl ratio of ``phi``
 (``docs/theory.md``), repeated roots resolved into their circular combinations as everywhere.
@@ -41,7 +44,6 @@ from ..linear_system import checked_mass_inverse
 from ..model._table import visible_names
 from ..model.geometry import skew
 from . import _arguments, _batches, _eigensolve, _vectors, _whirl
-from .tracking import track_modes
 
 __all__ = ["UcsMap", "BearingCurve", "Crossing", "ucs_map", "forward_critical_speeds"]
 
@@ -121,7 +123,8 @@ class UcsMap:
         Operating speed range, drawn as a band (low = high: one rated speed, drawn as a line).
     title : str
     mode_speeds : ndarray, shape (K, L) [rad/s]
-        The modes drawn on the map, each followed over the stiffness by its shape:
+        The modes drawn on the map, each followed over the stiffness along its branch (through
+        a veering it keeps its order, its shape changing; the same whatever the grid's spacing):
         ``mode_speeds[i, j]`` is mode j+1's forward critical speed at ``stiffness[i]``, nan where
         it is none (it whirls backward or not at all there, or outruns the speed). The modes
         are those among the ``m`` lowest forward critical speeds at some stiffness, numbered by
@@ -243,7 +246,7 @@ def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
     roots = parts.roots(grid)
     mine = np.searchsorted(grid, stiffness)
     found = _lowest_forward(_Roots(*(x[mine] for x in roots)), modes)
-    followed = _follow(parts, roots, grid, mine, modes, _following_order(parts, roots, grid))
+    followed = _follow(parts, roots, grid, mine, modes, _following_order(parts, roots, grid, mine, modes))
     curves = tuple(_bearing_curve(model, b, speeds, found) for b in chosen)
     crossings = _constant_crossings(curves, grid, followed) + _curve_crossings_all(parts, curves, grid, followed)
     return UcsMap(stiffness=stiffness, speeds=found, bearings=tuple(b.name for b in chosen), curves=curves,
@@ -314,13 +317,18 @@ class _Pencil:
         self.G = gyroscopic_matrix(model)
         self.forms = _whirl.whirl_forms(model)
         self.rest, self.unit = _split_stiffness(model, chosen)
+        self._basis = None
 
-    def roots(self, stiffness) -> "_Roots":
-        """:class:`_Roots` for the stiffness values (K,) [N/m]."""
+    def roots(self, stiffness, polish=True) -> "_Roots":
+        """:class:`_Roots` for the stiffness values (K,) [N/m]. Without ``polish`` (points where
+        only the shapes are used, to follow the roots) the lowest are not polished and no root
+        is called forward."""
         stiffness = np.asarray(stiffness, dtype=float)
         K = self.rest + stiffness[:, None, None] * self.unit
-        return _synchronous_roots(self.M, self.G, K, self.forms, probe=_free_probe([self.rest, self.unit]),
-                                  exact=(self.rest, self.unit, stiffness, self.polished) if self.polished else None)
+        exact = (self.rest, self.unit, stiffness, self.polished) if self.polished and polish else None
+        if self._basis is None:          # the machine's free motions: the same at every k
+            self._basis = _constrained_basis(self.M, self.M - 1j * self.G, _free_probe([self.rest, self.unit]))
+        return _synchronous_roots(self.M, self.G, K, self.forms, exact=exact, basis=self._basis, whirl=polish)
 
     def weighted(self, shapes) -> np.ndarray:
         """Mass-weighted unit shapes (..., m, n) for the MAC."""
@@ -375,14 +383,15 @@ def _free_probe(parts) -> np.ndarray:
     return probe
 
 
-def _synchronous_roots(M, G, K, forms, probe=None, exact=None) -> _Roots:
+def _synchronous_roots(M, G, K, forms, probe=None, exact=None, basis=None, whirl=True) -> _Roots:
     """:class:`_Roots` of ``K phi = Omega^2 (M - i G) phi`` for each of K (S, n, n), one batch;
     ``probe`` (n, n): a stiffness with the batch's free motions as its null space (default
     :func:`_free_probe` of the batch's matrices); ``exact``: ``(K_rest, K_unit, k, count)`` with ``K =
     K_rest + k K_unit`` (``k`` (S,)), where given the lowest ``count`` roots double precision leaves
-    inexact are polished (:func:`_polished`)."""
+    inexact are polished (:func:`_polished`); ``basis``: :func:`_constrained_basis` of the probe, where
+    known; without ``whirl`` no root is called forward (the whirl not computed)."""
     B = M - 1j * G
-    W = _constrained_basis(M, B, _free_probe(list(K)) if probe is None else probe)
+    W = _constrained_basis(M, B, _free_probe(list(K)) if probe is None else probe) if basis is None else basis
     if not W.shape[1]:                      # every motion free: no mode at all
         empty = np.zeros((len(K), 0))
         return _Roots(empty, empty, np.zeros((len(K), 0, len(M)), dtype=complex), empty.astype(bool))
@@ -408,6 +417,8 @@ def _synchronous_roots(M, G, K, forms, probe=None, exact=None) -> _Roots:
     finite = np.isfinite(omega)
     lam = 1j * np.where(finite, omega, 0.0)
     shapes = _eigensolve.resolve_repeated(lam, shapes, forms)
+    if not whirl:
+        return _Roots(omega, signed, shapes, np.zeros(omega.shape, dtype=bool))
     ratios = _whirl.whirl_ratios(shapes, forms, np.ones(len(K)))
     return _Roots(omega, signed, shapes, finite & (_whirl.whirl_labels(ratios) == "forward"))
 
@@ -709,7 +720,7 @@ def _evaluated(coefficients, ratio, grid, where):
 
 
 class _Followed(NamedTuple):
-    """The modes shown on the map, each followed over the stiffness grid by its shape.
+    """The modes shown on the map, each followed over the stiffness grid along its branch.
 
     ``order`` (G, n_shown): the root index of each shown mode at each grid stiffness;
     ``speeds`` (G, n_shown) [rad/s], nan where the mode is not a forward critical speed;
@@ -748,25 +759,200 @@ _SAME_SPEED = 1e-9
 _SAME_STIFFNESS = 1e-9
 
 
-def _following_order(parts, roots, grid) -> np.ndarray:
-    """Follow every root over the grid (G,) [N/m] by its shape (``tracking.track_modes``: the
-    MAC between neighbouring values, an optimal assignment with the trend of the signed
-    ``nu^-1/2`` where a step is ambiguous): ``order`` (G, m), ``order[i, label]`` the root of
-    mode ``label`` at ``grid[i]``.
+def _following_order(parts, roots, grid, mine, count) -> np.ndarray:
+    """Follow every root over the grid (G,) [N/m] along its branch: ``order`` (G, m),
+    ``order[i, label]`` the root of mode ``label`` at ``grid[i]``.
+
+    The roots are followed on a finer grid than the user's (:func:`_inserted`): points are
+    inserted (bisecting log k) wherever a step between neighbours leaves a root below the map's
+    highest speed without a clear continuation, until every such root finds one (MAC above
+    ``_CLEAR_MAC``), so the curves are the pencil's branches whatever the user's spacing: through
+    a veering (shapes exchanged over a short range of k) a curve keeps its rank and changes its
+    shape, where two modes do not couple they cross. Following by shape over a decade-wide step
+    jumped across the veering instead: grids of 5 and 161 values joined the roots otherwise
+    (``docs/level1_and_ucs.md``). Only the grid's own points are returned.
 
     Values closer than ``_SAME_STIFFNESS`` are one point of the following, the others' roots
     matched to its roots by their MAC (``scipy.optimize.linear_sum_assignment``): a step of one
     ulp (the user's 1e8 N/m moved by one ulp beside the bearings' own 1e8, a point of the grid
-    too) gave the next step's extrapolation no trend, and a decade-wide step was decided
-    otherwise (a 5-value map of examples/flexible_pump_on_mounts.toml showed 9 modes, 8 with
-    1e8 moved by one ulp)."""
+    too) was decided by round-off."""
     keep, owner = _distinct(grid)
-    weighted = parts.weighted(roots.shapes)
-    order = track_modes(1j * roots.signed[keep], weighted[keep])[np.searchsorted(keep, owner)]   # (G, m)
+    found = _Roots(*(x[keep] for x in roots))
+    users = np.searchsorted(keep, owner[mine])                      # the user's points among the kept
+    path = _Path(grid[keep], found, parts.weighted(found.shapes))
+    limit = _highest_speed(found, users, count)
+    while True:          # the shown modes' highest speed is known once they are followed
+        _insert(parts, path, limit)
+        order = path.order()
+        highest = _shown_highest(_Roots(*(x[users] for x in found)), order[path.at()[users]], order[-1],
+                                 path.omega[path.last()], count)
+        if not highest > limit:
+            break
+        limit = highest
+    order, weighted = order[path.at()][np.searchsorted(keep, owner)], path.weighted   # (G, m)
     for i in np.nonzero(owner != np.arange(len(grid)))[0]:
-        reference = weighted[owner[i]][order[i]]
-        order[i] = linear_sum_assignment(-_vectors.mac_matrix(reference, weighted[i]))[1]
+        reference = weighted[np.searchsorted(keep, owner[i])][order[i]]
+        order[i] = linear_sum_assignment(-_vectors.mac_matrix(reference, parts.weighted(roots.shapes[i])))[1]
     return order
+
+
+#: a step between neighbouring stiffness values is clear where each root below the map's
+#: highest speed has a continuation (one root, or a group of equal ones) with a MAC above this
+_CLEAR_MAC = 0.9
+#: steps are halved (in log k) down to this relative width, no further: a veering narrower is a crossing
+_FINEST_STEP = 1e-5
+#: roots closer than this (relative) are one group, their shapes any basis of its space
+_SAME_ROOT = 1e-7
+
+
+def _highest_speed(found, users, count) -> float:
+    """The highest of the ``count``-th lowest forward critical speeds at the user's points
+    (rows ``users`` of ``found``) [rad/s]: the roots below it are followed with care first (inf
+    where a point has fewer: all roots)."""
+    low = _lowest_forward(_Roots(*(x[users] for x in found)), count)[:, -1]
+    return float(np.inf if np.isnan(low).any() else low.max())
+
+
+def _shown_highest(found, order, last, speeds, count) -> float:
+    """The highest critical speed [rad/s] at the last point (``speeds`` (m,), the roots followed
+    there by ``last`` (m,)) of the modes that are among the ``count`` lowest forward critical
+    speeds at some of the user's points (``found`` there, each mode's roots ``order`` (U, m)):
+    the roots below it must be followed with care (a mode's critical speed grows with k along
+    its branch)."""
+    rows = np.arange(len(order))[:, None]
+    low = _lowest_forward(found, count)[:, -1:]
+    omega = found.omega[rows, order]
+    shown = (found.forward[rows, order] & ~(omega > low * (1 + _SAME_SPEED))).any(axis=0)
+    highest = speeds[last[shown]]
+    return float(highest[np.isfinite(highest)].max(initial=0.0))
+
+
+class _Path:
+    """The points the roots are followed on, and the steps between neighbours.
+
+    Points are kept in the order they were made (the given ones first: ``at()``), each with its
+    stiffness (``values``) [N/m], critical speeds ``omega`` (m,) [rad/s] (inf where none), signed
+    ``nu^-1/2`` (``signed``) and mass-weighted unit shapes ``weighted`` (m, n); ``steps`` lists
+    the pairs of neighbours in increasing stiffness, each with its MAC (m, m), its continuation
+    (:func:`_assigned`) and whether it is unclear for the limit it was judged at."""
+
+    def __init__(self, values, found, weighted):
+        self.values, self.omega, self.signed, self.weighted = list(values), list(found.omega), list(found.signed), \
+            list(weighted)
+        self.given = len(values)
+        self.steps = [(i, i + 1) for i in range(len(values) - 1)]
+        self.correlation, self.assigned = self._judged(self.steps)
+        self.judged = [None] * len(self.steps)                   # (limit, unclear) of each step
+
+    def _judged(self, steps):
+        if not steps:
+            return [], []
+        a, b = (np.array([self.weighted[i] for i in ends]) for ends in zip(*steps))
+        correlation = list(_vectors.mac_matrix(a, b))
+        return correlation, [_assigned(c) for c in correlation]
+
+    def add(self, split, values, found, weighted):
+        """New points ``values`` (s,) in the steps ``split`` (s,) (indices, increasing)."""
+        new = []
+        for s, value, omega, signed, shapes in zip(split, values, found.omega, found.signed, weighted):
+            self.values.append(value), self.omega.append(omega), self.signed.append(signed)
+            self.weighted.append(shapes)
+            a, b = self.steps[s]
+            new += [(a, len(self.values) - 1), (len(self.values) - 1, b)]
+        correlation, assigned = self._judged(new)
+        for j, s in enumerate(reversed(split)):             # from the end: the indices before stay
+            k = 2 * (len(split) - 1 - j)
+            self.steps[s:s + 1] = new[k:k + 2]
+            self.correlation[s:s + 1] = correlation[k:k + 2]
+            self.assigned[s:s + 1] = assigned[k:k + 2]
+            self.judged[s:s + 1] = [None, None]
+
+    def unclear(self, limit) -> np.ndarray:
+        """:func:`_unclear` of every step (judged anew only where new or judged at another limit)."""
+        todo = [i for i, j in enumerate(self.judged) if j is None or j[0] != limit]
+        if todo:
+            a, b = (np.array(x) for x in zip(*[self.steps[i] for i in todo]))
+            flags = _unclear(np.array(self.omega)[a], np.array(self.omega)[b], np.array(self.signed)[a],
+                             np.array(self.signed)[b], np.array([self.correlation[i] for i in todo]),
+                             np.array([self.assigned[i] for i in todo]), limit)
+            for i, flag in zip(todo, flags):
+                self.judged[i] = (limit, bool(flag))
+        return np.array([j[1] for j in self.judged], dtype=bool)
+
+    def points(self) -> np.ndarray:
+        """The points' indices in increasing stiffness."""
+        return np.array([self.steps[0][0]] + [b for _, b in self.steps]) if self.steps else np.arange(self.given)
+
+    def at(self) -> np.ndarray:
+        """The given points' places in :meth:`points`."""
+        return np.argsort(self.points())[:self.given]
+
+    def last(self) -> int:
+        return int(self.points()[-1])
+
+    def order(self) -> np.ndarray:
+        """``order`` (P, m): each root followed from each point to the next (in increasing
+        stiffness) by its continuation."""
+        m = len(self.omega[0])
+        order = np.empty((len(self.steps) + 1, m), dtype=int)
+        order[0] = np.arange(m)
+        for i, step in enumerate(self.assigned):
+            order[i + 1] = step[order[i]]
+        return order
+
+
+def _unclear(start, end, signed_start, signed_end, correlation, assigned, limit) -> np.ndarray:
+    """Whether each step (S,) leaves a root below ``limit`` [rad/s] (at either end; a root's
+    critical speed only grows with k) without a clear continuation: its MAC (``correlation``
+    (S, m, m)) summed over a group of equal roots (``_SAME_ROOT``) at the other end at most
+    ``_CLEAR_MAC`` with every such group; or its continuation (``assigned`` (S, m)) passing
+    another root (:func:`_passing`): two roots that cross over a step may be a veering the step
+    jumped (their shapes exchanged and back), told from a crossing only by a finer step.
+    ``start``, ``end`` (S, m): the critical speeds at the steps' ends [rad/s] (inf where none),
+    ``signed_start``, ``signed_end`` their signed ``nu^-1/2``."""
+    def groups(signed):
+        return np.abs(signed[:, :, None] - signed[:, None, :]) <= _SAME_ROOT * np.abs(signed[:, :, None])
+    ahead = (correlation @ groups(signed_end)).max(axis=-1)                       # (S, m): row i's best group
+    behind = (groups(signed_start) @ correlation).max(axis=-2)                    # (S, m): column j's
+    below_start = np.isfinite(start) & (start <= limit)
+    below_end = np.isfinite(end) & (end <= limit)
+    vague = ((below_start & (ahead <= _CLEAR_MAC)) | (below_end & (behind <= _CLEAR_MAC))).any(axis=-1)
+    return vague | np.array([_passing(*x) for x in zip(start, end, assigned, below_start)], dtype=bool)
+
+
+def _assigned(correlation) -> np.ndarray:
+    """The roots (m,) at the next point continuing each root by the optimal assignment of their
+    MAC (m, m)."""
+    return linear_sum_assignment(-correlation)[1]
+
+
+def _passing(start, end, continued, below) -> bool:
+    """Whether a root ``below`` (m,) bool, with critical speed ``start`` (m,) [rad/s] (increasing,
+    inf where none), continued by ``end[continued]``, passes another root or is passed by one
+    (speeds within ``_SAME_ROOT`` are equal)."""
+    after = end[continued]
+    finite = np.isfinite(start)
+    after, below = after[finite], below[finite]
+    lower_after = np.minimum.accumulate(after[::-1])[::-1]               # the lowest continuation of the roots above
+    passed = np.r_[lower_after[1:], np.inf] < after * (1 - _SAME_ROOT)
+    higher_before = np.maximum.accumulate(after)                          # the highest of the roots below
+    passes = np.r_[-np.inf, higher_before[:-1]] > after * (1 + _SAME_ROOT)
+    return bool(np.any(below & (passed | passes)))
+
+
+def _insert(parts, path, limit) -> None:
+    """Add to ``path`` the geometric middle of each unclear step (:func:`_unclear`), all of a
+    round in one batched solve (not polished: only their shapes are used), until every step is
+    clear or ``_FINEST_STEP`` wide."""
+    while True:
+        values = np.array(path.values)
+        a, b = (np.array(x, dtype=int) for x in zip(*path.steps)) if path.steps else (np.zeros(0, int),) * 2
+        split = np.nonzero(path.unclear(limit) & (values[b] > values[a] * (1 + _FINEST_STEP)))[0]
+        if not len(split):
+            return
+        middle = np.sqrt(values[a[split]] * values[b[split]])
+        new = parts.roots(middle, polish=False)
+        path.add(split, middle, new, parts.weighted(new.shapes))
 
 
 def _distinct(grid):

@@ -25,7 +25,7 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     """Forward critical speeds of the followed modes against the chosen bearings' stiffness.
 
     Log-log axes: bearing stiffness [N/m] across, speed [rpm] up. Each mode, followed over the
-    stiffness by its shape (curves may cross), is a coloured line named at its right end and in
+    stiffness along its branch (curves may cross), is a coloured line named at its right end and in
     the legend ("2 pump conical"); where it stops (or starts) being a forward critical speed
     inside the sweep its curve ends at a square, its number beside it. The axis runs on past the sweep's last
     stiffness, where the rigid-support asymptotes (the chosen bearings radially rigid) are
@@ -118,9 +118,14 @@ def _place_labels(ax, labels, first=0, count=0):
         return
     renderer = laid_out_renderer(ax.figure)
 
-    def place(touching):
+    def place(touching, pair=None):
         groups = [[k] for k in range(first)] + _touching(ax, labels[first:first + count], first, touching) \
             + [[k] for k in range(first + count, len(labels))]
+        if pair is not None:            # two groups joined (:func:`_pair_long_leader`)
+            a, b = (next(g for g in groups if k in g) for k in pair)
+            if a is not b:
+                a += b
+                groups.remove(b)
         anchors = [labels[g[0]][:2] for g in groups]
         texts = ["/".join(dict.fromkeys(labels[k][2] for k in sorted(g, key=lambda k: labels[k][1]))) for g in groups]
         members = [[labels[k][:2] for k in g[1:]] for g in groups]
@@ -158,8 +163,92 @@ def _place_labels(ax, labels, first=0, count=0):
         else:
             for text in wider:
                 text.remove()
-            drawn, _ = place(_TOUCHING)
+            drawn, crossing = place(_TOUCHING)
     _shorter_leaders(ax, drawn, [label[:2] for label in labels])
+    if count:
+        _pair_long_leader(ax, labels, first, count, drawn, place)
+
+
+def _pair_long_leader(ax, labels, first, count, drawn, place):
+    """Where a crossing's label still stands more than :data:`_LONG_LEADER` points from its
+    circle, its circle and the nearest other one (centres within :data:`_NEAR` points, at
+    :data:`SAVED_DPI`) share one label, kept if that shortens the longest leader and lengthens
+    no other label's (nor adds a leader across a curve or circle): flexible_pump_on_mounts' map
+    over 1e5 .. 1e10 N/m, 41 values, had no free place beside '31315' at 1e8 N/m (the curves
+    above and below it, the circle of '34642' 9.6 points above) and drew its leader 45 points
+    long; '31315/34642' stands 8 points from its circles. Two circles only: a chain of such
+    circles (the fan's, every bearing chosen) grouped five speeds on one label 48 points away."""
+    before = _leader_lengths(ax, drawn)
+    if not before:                     # no label drawn (all in the note)
+        return
+    text, longest = max(before.items(), key=lambda item: item[1])
+    if longest <= _LONG_LEADER:
+        return
+    index = [k for k in range(first, first + count) if labels[k][2] == text.split("/")[0]]
+    fig = ax.figure
+    dpi = fig.get_dpi()
+    fig.set_dpi(SAVED_DPI)
+    try:
+        centres = ax.transData.transform(np.array([labels[k][:2] for k in range(first, first + count)], float))
+    finally:
+        fig.set_dpi(dpi)
+    if len(index) != 1 or "/" in text:
+        return
+    own = index[0] - first
+    distance = np.hypot(*(centres - centres[own]).T) * 72.0 / SAVED_DPI
+    distance[own] = np.inf
+    other = int(np.argmin(distance))
+    if not distance[other] < _NEAR:
+        return
+    circles = [label[:2] for label in labels[first:first + count]]
+    crossing = _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
+    for t in drawn:
+        t.set_visible(False)
+    paired, _ = place(_TOUCHING, (first + own, first + other))
+    _shorter_leaders(ax, paired, [label[:2] for label in labels])
+    through = _crossing_leaders(ax, paired, _members(labels, first, count, paired), circles)
+    after = _leader_lengths(ax, paired)
+    named = {part: length for label, length in before.items() for part in label.split("/")}
+    fair = all(length <= max(named.get(part, 0.0) for part in label.split("/")) + 0.5
+               for label, length in after.items())
+    if max(after.values(), default=0.0) < longest and fair and through[0] <= crossing[0] and sum(through) <= sum(crossing):
+        for t in drawn:
+            t.remove()
+        drawn[:] = paired
+        return
+    for t in paired:
+        t.remove()
+    for t in drawn:
+        t.set_visible(True)
+
+
+def _members(labels, first, count, drawn) -> dict:
+    """Each crossing label's text -> the points (data coordinates) of the speeds it names."""
+    where = {labels[k][2]: labels[k][:2] for k in range(first, first + count)}
+    return {t.get_text(): [where[part] for part in t.get_text().split("/") if part in where] for t in drawn}
+
+
+def _leader_lengths(ax, drawn) -> dict:
+    """Each label's leader [points] (text -> length), from its box to its point, laid out at
+    :data:`SAVED_DPI`."""
+    from matplotlib.text import Text
+
+    from ._labels import laid_out_renderer
+
+    fig = ax.figure
+    dpi = fig.get_dpi()
+    fig.set_dpi(SAVED_DPI)
+    try:
+        renderer = laid_out_renderer(fig)
+        out = {}
+        for text in drawn:
+            text.update_positions(renderer)
+            anchor = ax.transData.transform(text.xy)
+            box = np.array(Text.get_window_extent(text, renderer).extents)
+            out[text.get_text()] = float(np.hypot(*(_nearest(box, anchor) - anchor))) * 72.0 / SAVED_DPI
+    finally:
+        fig.set_dpi(dpi)
+    return out
 
 
 #: a label whose leader is longer than this [points] is moved nearer its point where a place is free
@@ -373,6 +462,8 @@ def _meets(start, end, segments):
 _TOUCHING = 3.0
 #: ... and, where some leader crosses a curve so, closer than this (circles that overlap)
 _OVERLAPPING, _CIRCLE_POINTS = 6.0, 6.0
+#: a crossing whose label stands far from it shares one with the nearest circle within this [points]
+_NEAR = 12.0
 #: the figures are saved at this resolution [dpi] (``save_figure``), where leaders are checked
 SAVED_DPI = 150.0
 

@@ -20,7 +20,7 @@ def _nearest_other(values, a):
 
 
 #: the polish's work at one speed at most on a small machine (up to :data:`SMALL_MACHINE`
-#: coordinates), in eigen-solves of that speed (:func:`polish_work`): however many roots need it,
+#: coordinates), in eigen-solves of that speed (:func:`polish_work`, :func:`run_work`): however many roots need it,
 #: polishing costs a speed at most this many times its own solve, so a machine with many inexact
 #: roots stays linear in them (the lowest first; past it the roots keep their bound and are warned
 #: of). A big machine's is smaller (:func:`polish_budget`)

@@ -20,7 +20,7 @@ import warnings
 import numpy as np
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _lowest_newton
+from rotordyn_modal.analysis import _eigensolve, _lowest_newton
 from rotordyn_modal.errors import ModelWarning
 
 from test_close_roots28h import _model
@@ -91,6 +91,9 @@ def test_a_root_the_polish_cannot_converge_is_still_warned(tmp_path, monkeypatch
     leaves modes 5 and 6 as the QR solve gave them, named with a bound at least their error (both
     the one-root polish and its fallback, the pair with the nearest neighbour, stubbed)."""
     monkeypatch.setattr(_lowest_newton, "root_polished", lambda *args, **kwargs: None)
+    # the single roots' polish all at once (roots32) not converging either
+    monkeypatch.setattr(_eigensolve, "single_roots_polished",
+                        lambda M, D, K, roots, shapes, branches=None: (roots, shapes, np.full(len(roots), np.inf)))
     monkeypatch.setattr(_lowest_newton, "pair_polished", lambda *args, **kwargs: None)
     result, warned = _caught(lambda: rdm.modal(_model(tmp_path), SPEED))
     assert len(warned) == 1 and "mode(s) 1, 2, 5, 6 at 3,000 rpm" in warned[0], warned   # the pair's too

@@ -21,7 +21,7 @@ import re
 import numpy as np
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _lowest_newton, _polish_plan
+from rotordyn_modal.analysis import _eigensolve, _polish_plan
 
 from test_exact_roots27l import _caught, _maxwell_model
 
@@ -64,19 +64,22 @@ def test_stability_log_decrements_on_polished_roots():
 def test_polish_work_is_capped_and_the_rest_warned(monkeypatch):
     """Past ``POLISH_WORK`` a speed, the roots are left as the solve gave them and warned of as
     before: with a budget of one eigen-solve, the pair (a block: 2) is not polished, and is named;
-    of the single roots (1 each) only the lowest is polished."""
+    of the single roots (polished together, ``BATCHED_ROOT_WORK`` each since roots32; 1 each one at
+    a time before) only the lowest five, the others named with their bounds."""
     monkeypatch.setattr(_polish_plan, "POLISH_WORK", 1.0)
     calls = []
-    original = _lowest_newton.rational_root_polished
+    original = _eigensolve.single_roots_polished
 
     def counted(*args, **kwargs):
-        calls.append(args[4])
+        calls.append(len(args[3]))
         return original(*args, **kwargs)
 
-    monkeypatch.setattr(_lowest_newton, "rational_root_polished", counted)
+    monkeypatch.setattr(_eigensolve, "single_roots_polished", counted)
     result, warned = _caught(lambda: rdm.campbell(_maxwell_model(), np.array([SPEED]), critical=False))
-    assert len(calls) == 1
-    assert len(warned) == 1 and re.search(r"mode\(s\) 1, 2, \d+ at 3,000 rpm", warned[0]), warned
+    assert calls == [int(1.0 / _polish_plan.BATCHED_ROOT_WORK)]
+    # the head names the roots over 1e-6 (the pair), the tail each mode left over 1e-9 (roots32)
+    assert len(warned) == 1 and "mode(s) 1, 2 at 3,000 rpm" in warned[0], warned
+    assert len(re.findall(r"mode \d+ [0-9.]+e-\d+", warned[0])) > 2, warned
     pair = _lowest_pair(result.eigenvalues[0])
     assert np.abs(pair.imag / (2 * np.pi) - PAIR_HZ).max() > 1e-5 * PAIR_HZ.max()    # left as solved
 

@@ -156,16 +156,20 @@ def _refined40(M, D, K, root, shape):
     raise AssertionError("no convergence")
 
 
-def test_roots_the_budget_leaves_are_each_named_with_their_error():
+def test_roots_the_budget_leaves_are_each_named_with_their_error(monkeypatch):
     """The 10 m shaft with six 1 mm sections (624 coordinates) at 3,000 rpm has 46 roots over
     1e-9; the budget (2 eigen-solves a speed from about 540 coordinates) polishes three, and polishing
     all 46 costs 12 to 14 times the eigen-solve. Main warned of modes 4 to 10 only (those over
     1e-6) with one bound for all, and said nothing of modes 11 and 12, 1.0e-7 off a 40-digit solve.
-    Now its line gives every mode left over 1e-9 its own bound, at least its error."""
+    Now its line gives every mode left over 1e-9 its own bound, at least its error. (Since roots32
+    the sparse polish takes all 46 within the budget: the budget is set to 0 here, so that every
+    root is left.)"""
     import re
 
+    from rotordyn_modal.analysis import _eigensolve
     from test_exact_roots27p import _cut_shaft
 
+    monkeypatch.setattr(_eigensolve, "polish_budget", lambda n: 0.0)
     model = _cut_shaft()
     assert model.dofs.n > 540
     speed = rdm.rpm(3000.0)
@@ -184,4 +188,4 @@ def test_roots_the_budget_leaves_are_each_named_with_their_error():
         error = abs(root - exact) / abs(exact)
         assert error > 1e-9                                      # unpolished: over the promise
         assert number in each and error <= each[number], (number, error, each)
-    assert min(each) == 4 and all(k in each for k in range(4, 13)), each
+    assert all(k in each for k in range(4, 13)), each

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["POLISH_WORK", "SMALL_MACHINE", "BIG_MACHINE_WORK", "polish_budget", "polish_work"]
+__all__ = ["POLISH_WORK", "SMALL_MACHINE", "BIG_MACHINE_WORK", "BATCHED_ROOT_WORK", "SPARSE_ROOT_WORK", "polish_budget",
+           "polish_work", "run_work"]
 
 
 def _nearest_other(values, a):
@@ -19,7 +20,7 @@ def _nearest_other(values, a):
 
 
 #: the polish's work at one speed at most on a small machine (up to :data:`SMALL_MACHINE`
-#: coordinates), in eigen-solves of that speed (:func:`polish_work`): however many roots need it,
+#: coordinates), in eigen-solves of that speed (:func:`polish_work`, :func:`run_work`): however many roots need it,
 #: polishing costs a speed at most this many times its own solve, so a machine with many inexact
 #: roots stays linear in them (the lowest first; past it the roots keep their bound and are warned
 #: of). A big machine's is smaller (:func:`polish_budget`)
@@ -53,6 +54,30 @@ def polish_work(size, n=0):
     twice the measured cost)."""
     work = 1.0 if size == 1 else size ** 3 / 4.0
     return work * min(1.0, np.sqrt(SMALL_MACHINE / n)) if n > SMALL_MACHINE else work
+
+
+#: the work of one single root polished with the others of its speed at once
+#: (:func:`._eigensolve.single_roots_polished`), in eigen-solves of the speed, as :func:`polish_work`
+#: counts (times ``sqrt(SMALL_MACHINE / n)`` above it). Measured (CPU, one BLAS thread, medians of
+#: 3): the 16 single roots of the 48-coordinate 1 mm shaft at 3,000 rpm about 0.1 each, one at a
+#: time 0.5 to 0.9 each
+BATCHED_ROOT_WORK = 0.2
+#: the work of one root on a sparse pencil (``._eigensolve._sparse``: a meshed shaft), polished
+#: with the others at once or in a cluster by a sparse LU (``._eigensolve.sparse_block_polished``),
+#: in eigen-solves of the speed; a cluster of ``k`` counts ``k^3 / 4`` of it. Measured (CPU, one
+#: BLAS thread, 3 runs): all 46 roots over 1e-9 of the 624-coordinate cut shaft at 3,000 rpm (44
+#: single, a pair) 0.44 to 0.75 of its solve with their round-off estimate, about 0.005 a root
+SPARSE_ROOT_WORK = 0.02
+
+
+def run_work(size, n, sparse=False):
+    """The work of polishing a run of ``size`` complex roots (:func:`_clusters`; one root: with the
+    speed's other single roots at once) on a machine of ``n`` coordinates, in eigen-solves of the
+    speed: :data:`SPARSE_ROOT_WORK` a root on a sparse pencil, else :data:`BATCHED_ROOT_WORK` of
+    :func:`polish_work` for one root and :func:`polish_work` for a cluster."""
+    if sparse:
+        return SPARSE_ROOT_WORK * (1.0 if size == 1 else size ** 3 / 4.0)
+    return BATCHED_ROOT_WORK * polish_work(1, n) if size == 1 else polish_work(size, n)
 
 
 def _clusters(values, bound, order):

@@ -867,6 +867,37 @@ def draw_time_layout(place):
     return artist
 
 
+def lay_out_again_when(fig, grown):
+    """Have each constrained layout of ``fig`` call ``grown(renderer)`` when done, and lay the
+    figure out once more where it returns True.
+
+    For labels whose words depend on the axes' laid-out size (the Campbell diagram's shared
+    right-edge labels): ``grown`` sets them for the axes as laid out and says whether they now
+    reach farther than the layout left room for; the second layout leaves it. Only on a figure
+    with constrained layout (its engine, and its settings, are kept inside); else nothing.
+    """
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    inner = fig.get_layout_engine()
+    if not isinstance(inner, ConstrainedLayoutEngine):
+        return
+
+    class _LaidOutAgain(type(inner)):
+        def __init__(self):             # noqa: D401 - the inner engine's state, not a new one
+            self.__dict__.update(inner.__dict__)
+
+        def execute(self, figure):
+            inner.execute(figure)
+            if grown(figure._get_renderer()):
+                ConstrainedLayoutEngine.execute(inner, figure)
+
+        def set(self, **settings):
+            inner.set(**settings)
+            self.__dict__.update(inner.__dict__)
+
+    fig.set_layout_engine(_LaidOutAgain())
+
+
 def set_if_changed(artist, **properties):
     """Set ``properties`` of ``artist`` only where they change (a redraw marks nothing stale)."""
     for name, value in properties.items():

@@ -7,8 +7,8 @@ import numpy as np
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, cuts, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      font_points, operating_band, set_if_changed, text_size, _drawn_segments, _overlap, _ROW_SPLIT,
-                      _short_orders, touching_groups)
+                      font_points, lay_out_again_when, operating_band, set_if_changed, text_size, _drawn_segments,
+                      _overlap, _ROW_SPLIT, _short_orders, touching_groups)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -691,6 +691,10 @@ class _CampbellLabels:
         self.leaders = [ax.plot([], [], linewidth=0.6, transform=ax.transAxes, clip_on=False,
                                 gid=f"mode-leader {result.modes[m]}")[0] for m in self.modes]
         self._reserve_shared_words()
+        # the right-edge labels as drawn, for the axes as laid out, before each drawing's layout
+        # is final: shared as the first guess above could not know (the 20-rotor chain's
+        # 'modes 15, 40, 85, 86' ran off the figure), where the layout leaves them room
+        lay_out_again_when(ax.figure, self._room_beside)
         self.critical_words = [_speed_text(s) for s in critical[0]]
         self.critical_texts = [self._text(w, gid="critical-label", fontsize="xx-small")
                                for w in self.critical_words] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
@@ -729,6 +733,32 @@ class _CampbellLabels:
                 self.mode_texts[beside[group[0]]].set_text(
                     _mode_words([self.result.modes[self.modes[beside[g]]] for g in group]))
 
+    def _room_beside(self, renderer):
+        """Set the right-edge labels (:meth:`_beside`) for the axes as the figure's layout left
+        them, the labels of curves ending inside the axes hidden till they are placed there;
+        whether a label now reaches farther right than before [pixels]: the layout left it no
+        room (:func:`._labels.lay_out_again_when`)."""
+        reach = self._reach(renderer)
+        self._set_scales(renderer)
+        ends = self._reset_mode_texts()
+        for i, end in enumerate(ends):
+            if end is not None and end[0] == "inside":
+                set_if_changed(self.mode_texts[i], visible=False)
+        self._beside(renderer, [i for i, end in enumerate(ends) if end is not None and end[0] == "right"], ends)
+        return self._reach(renderer) > reach + 0.5
+
+    def _reach(self, renderer):
+        """The right end [pixels] of the visible mode labels (-inf: none)."""
+        return max((t.get_window_extent(renderer).x1 for t in self.mode_texts if t.get_visible() and t.get_text()),
+                   default=-np.inf)
+
+    def _set_scales(self, renderer):
+        """The axes' scales as drawn now: axes fraction per pixel, pixels per point, data to axes."""
+        box = self.ax.get_window_extent(renderer)
+        self.to_u, self.to_v = 1.0 / max(box.width, 1.0), 1.0 / max(box.height, 1.0)
+        self.points = renderer.points_to_pixels(1.0)
+        self.to_axes = (self.ax.transData + self.ax.transAxes.inverted()).transform
+
     def _text(self, text, gid=None, va="bottom", fontsize=_FONT, visible=False, x=0.5, clip_on=True):
         return self.ax.text(x, 0.5, text, transform=self.ax.transAxes, fontsize=fontsize, ha="left", va=va,
                             gid=gid, visible=visible, clip_on=clip_on)
@@ -744,10 +774,7 @@ class _CampbellLabels:
     def place(self, renderer):
         """Place every label for the axes as they are now (called when the axes are drawn)."""
         ax = self.ax
-        box = ax.get_window_extent(renderer)
-        self.to_u, self.to_v = 1.0 / max(box.width, 1.0), 1.0 / max(box.height, 1.0)
-        self.points = renderer.points_to_pixels(1.0)
-        self.to_axes = (ax.transData + ax.transAxes.inverted()).transform
+        self._set_scales(renderer)
         self.curves = CurveMap(ax, renderer, skip=self.leaders + self.critical_leaders + self.key_leaders,
                                units="axes")
         self.renderer, self.mode_map = renderer, None
@@ -828,17 +855,23 @@ class _CampbellLabels:
 
     # -- modes ---------------------------------------------------------------------------
     def _place_modes(self, renderer, placed, markers):
-        for text, m in zip(self.mode_texts, self.modes):      # a label shared at the last drawing
-            set_if_changed(text, text=f"mode {self.result.modes[m]}")
-        ends = [self._visible_end(m) for m in self.modes]
+        ends = self._reset_mode_texts()
         beside = [i for i, end in enumerate(ends) if end is not None and end[0] == "right"]
         inside = [i for i, end in enumerate(ends) if end is not None and end[0] == "inside"]
+        self._beside(renderer, beside, ends)
+        self._inside(renderer, inside, ends, placed, markers)
+
+    def _reset_mode_texts(self):
+        """Each mode label's own words again (a label shared at the last drawing), the labels and
+        leaders of curves not in view hidden; the curves' ends (:meth:`_visible_end`)."""
+        for text, m in zip(self.mode_texts, self.modes):
+            set_if_changed(text, text=f"mode {self.result.modes[m]}")
+        ends = [self._visible_end(m) for m in self.modes]
         for i, end in enumerate(ends):
             if end is None:
                 set_if_changed(self.mode_texts[i], visible=False)
                 set_if_changed(self.leaders[i], visible=False)
-        self._beside(renderer, beside, ends)
-        self._inside(renderer, inside, ends, placed, markers)
+        return ends
 
     def _visible_end(self, m):
         """('right', v, k) where mode ``m``'s curve (as drawn) meets the right edge at height

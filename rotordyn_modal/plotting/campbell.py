@@ -7,8 +7,8 @@ import numpy as np
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, cuts, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      font_points, lay_out_again_when, operating_band, set_if_changed, text_size, _drawn_segments,
-                      _overlap, _ROW_SPLIT, _short_orders, touching_groups)
+                      font_points, lay_out_again_when, operating_band, segment_bounds, set_if_changed, text_size,
+                      _drawn_segments, _overlap, _ROW_SPLIT, _short_orders, touching_groups)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -705,6 +705,8 @@ class _CampbellLabels:
         self.critical_note = self._text("", gid="critical-note", fontsize="xx-small") \
             if annotate and len(critical[0]) else None
         self.none_note = None           # the note of a sweep with no critical speed (see plot_campbell)
+        self.placed_for = None          # the state the labels were last placed for (:meth:`_drawn_state`)
+        self._own_lines = set(self.leaders + self.critical_leaders + self.key_leaders)
 
     def mark_uncertain(self, uncertain):
         """Suffix '?' to the words of the critical speeds that are jumps, not crossings."""
@@ -738,6 +740,9 @@ class _CampbellLabels:
         them, the labels of curves ending inside the axes hidden till they are placed there;
         whether a label now reaches farther right than before [pixels]: the layout left it no
         room (:func:`._labels.lay_out_again_when`)."""
+        if self._drawn_state(renderer) == self.placed_for:     # placed so at the last drawing
+            return False
+        self.placed_for = None
         reach = self._reach(renderer)
         self._set_scales(renderer)
         ends = self._reset_mode_texts()
@@ -774,6 +779,9 @@ class _CampbellLabels:
     def place(self, renderer):
         """Place every label for the axes as they are now (called when the axes are drawn)."""
         ax = self.ax
+        state = self._drawn_state(renderer)
+        if state == self.placed_for:      # placed for this very state at the last drawing
+            return
         self._set_scales(renderer)
         self.curves = CurveMap(ax, renderer, skip=self.leaders + self.critical_leaders + self.key_leaders,
                                units="axes")
@@ -786,6 +794,19 @@ class _CampbellLabels:
         self._place_critical(renderer, placed, markers)
         self._place_note(renderer, placed, markers)
         self._place_none_note(renderer, placed, markers)
+        self.placed_for = state
+
+    def _drawn_state(self, renderer):
+        """What the labels' places depend on beyond the labels themselves: the resolution, the
+        figure's and the axes' size and place, the limits and scales, the artists drawn and the
+        title. A drawing in the same state places every label as the last one did (a report's
+        figure is drawn three times: laid out, then saved), so :meth:`place` leaves them."""
+        ax = self.ax
+        return (renderer.points_to_pixels(1.0), tuple(ax.figure.bbox.bounds),
+                tuple(ax.get_window_extent(renderer).bounds), tuple(ax.get_xlim()), tuple(ax.get_ylim()),
+                ax.get_xscale(), ax.get_yscale(), len(ax.lines), len(ax.collections), len(ax.texts),
+                len(ax.patches), ax.title.get_text(),
+                tuple(a.get_visible() for a in ax.lines + ax.collections if a not in self._own_lines))
 
     # -- order lines ---------------------------------------------------------------------
     def _place_orders(self, renderer, placed):
@@ -966,7 +987,7 @@ class _CampbellLabels:
 
         def free(box, leader=False):
             return self.curves.free(box, keep) and (not own_nearest or self._nearest_own(box, anchor, markers, leader)) \
-                and not crosses_any(self.leader_lines, [box])
+                and not crosses_any(self._leader_array(), [box])
 
         box = first_free_box(near, placed, gap, frame, obstacles=markers, allowed=free)
         if box is not None:
@@ -979,6 +1000,7 @@ class _CampbellLabels:
                                                           clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT))
                                       / to_px).tolist()]
         others = list(placed)
+        others_array = np.asarray(others, float).reshape(-1, 4)      # (taken once: the checks run per box)
 
         def leader_clear(box, drawn=True):
             # nor through another marker: its end would touch that circle as much as its own
@@ -990,8 +1012,8 @@ class _CampbellLabels:
             start = nearest_in(box, anchor)
             end = self._short_of(start, anchor, clear_px) if drawn else anchor
             return self._ends_nearest(self._short_of(start, anchor, clear_px), markers, clear_px) \
-                and free(box, leader=True) and not crosses_any([(start, anchor)], others) \
-                and not crosses_segments(start, anchor, self.leader_lines) \
+                and free(box, leader=True) and not crosses_any([(start, anchor)], others_array) \
+                and not crosses_segments(start, anchor, self._leader_array()) \
                 and not crosses_any([(start, end)], markers)
 
         def cost(box):
@@ -1000,8 +1022,12 @@ class _CampbellLabels:
                 + _CROSSING_COST * h / self.to_v * max(self.curves.crossings(start, anchor, keep),
                                                        self._mode_cuts(start, anchor, circle))
 
+        distances = {}          # of each box, asked for many times (sorting, bounds, costs)
+
         def distance(box):
-            return box_distance(box * to_px, u / self.to_u, v / self.to_v)
+            if box not in distances:
+                distances[box] = box_distance(box * to_px, u / self.to_u, v / self.to_v)
+            return distances[box]
 
         radius = 0.5 * _MARKER_POINTS * self.points      # the circle's, as drawn
         circle = (u - radius * self.to_u, v - radius * self.to_v, u + radius * self.to_u, v + radius * self.to_v)
@@ -1061,9 +1087,9 @@ class _CampbellLabels:
         (counter_rotating's '1663' ended at the join of the 1663 and 1700 rpm circles)."""
         if not len(markers):
             return True
-        boxes = np.asarray(markers, float).reshape(-1, 4)
-        du = ((boxes[:, 0] + boxes[:, 2]) / 2 - end[0]) / self.to_u
-        dv = ((boxes[:, 1] + boxes[:, 3]) / 2 - end[1]) / self.to_v
+        middle_u, middle_v, _ = self._marker_centres(markers)
+        du = (middle_u - end[0]) / self.to_u
+        dv = (middle_v - end[1]) / self.to_v
         return bool(np.all(np.hypot(du, dv) >= _NEAREST_OWN * clear_px))
 
     def _nearest_own(self, box, anchor, markers, leader=False):
@@ -1075,15 +1101,35 @@ class _CampbellLabels:
         own at the end of its leader, and was read as the 710 rpm circle's speed."""
         if not len(markers):
             return True
-        boxes = np.asarray(markers, float).reshape(-1, 4)
         scale = np.array([self.to_u, self.to_v])
-        centres = np.column_stack([boxes[:, 0] + boxes[:, 2], boxes[:, 1] + boxes[:, 3]]) / 2 / scale
+        centres = self._marker_centres(markers)[2]
         low, high = np.array(box[:2]) / scale, np.array(box[2:]) / scale
         point = np.asarray(anchor) / scale
         own = float(np.hypot(*np.maximum(np.maximum(low - point, point - high), 0.0)))
         near = np.hypot(*np.maximum(np.maximum(low - centres, centres - high), 0.0).T)
         least = min(_NEAREST_OWN * own, _BESIDE_POINTS * self.points) if leader else _NEAREST_OWN * own
         return bool(np.all(near >= least))
+
+    def _marker_centres(self, markers):
+        """The centres of the ``markers`` (boxes, axes fraction): u and v (n,) [axes fraction] and
+        (n, 2) [pixels]; worked out once for the list given (its boxes are tried many times)."""
+        cached = self.__dict__.get("marker_centres")
+        if cached is None or cached[0] is not markers or cached[1] != (self.to_u, self.to_v):
+            boxes = np.asarray(markers, float).reshape(-1, 4)
+            scale = np.array([self.to_u, self.to_v])
+            centres = np.column_stack([boxes[:, 0] + boxes[:, 2], boxes[:, 1] + boxes[:, 3]]) / 2 / scale
+            cached = self.marker_centres = (markers, (self.to_u, self.to_v), (boxes[:, 0] + boxes[:, 2]) / 2,
+                                            (boxes[:, 1] + boxes[:, 3]) / 2, centres)
+        return cached[2:]
+
+    def _leader_array(self):
+        """The leader lines drawn so far (:attr:`leader_lines`) as an (n, 4) array, made again only
+        when one was added."""
+        cached = self.__dict__.get("leader_array")
+        if cached is None or cached[0] is not self.leader_lines or cached[1] != len(self.leader_lines):
+            cached = self.leader_array = (self.leader_lines, len(self.leader_lines),
+                                          np.asarray(self.leader_lines, float).reshape(-1, 4))
+        return cached[2]
 
     def _short_of(self, start, centre, clear_px):
         """The end (axes fraction) of a leader line from ``start`` to ``centre`` (axes fraction)
@@ -1103,8 +1149,9 @@ class _CampbellLabels:
             frame = ax.get_window_extent(self.renderer)
             segments = _drawn_segments(ax, self.leaders + self.critical_leaders + self.key_leaders + orders,
                                        (frame.x0, frame.y0, frame.x1, frame.y1))
-            self.mode_map = (segments, (frame.x0, frame.y0), (frame.width, frame.height))
-        return cuts(*self.mode_map, start, end, keep)
+            self.mode_map = (segments, (frame.x0, frame.y0), (frame.width, frame.height), segment_bounds(segments))
+        segments, origin, size, bounds = self.mode_map
+        return cuts(segments, origin, size, start, end, keep, bounds=bounds)
 
     @staticmethod
     def _show_leader(line, leader, colour):

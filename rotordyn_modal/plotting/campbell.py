@@ -62,6 +62,9 @@ _STRADDLE = (0.1, 0.3, 0.5, 0.7, 0.9)
 _ACROSS = (-0.2, 0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0, 1.2)
 
 
+#: a right-edge label reaching nearer the figure's edge than this [pixels] has the figure laid
+#: out again (:meth:`_CampbellLabels._room_beside`)
+_EDGE_PIXELS = 0.5
 #: the critical-speed note keeps at least this many points off the axes' spines
 _NOTE_MARGIN_POINTS = 4.0
 
@@ -738,19 +741,20 @@ class _CampbellLabels:
     def _room_beside(self, renderer):
         """Set the right-edge labels (:meth:`_beside`) for the axes as the figure's layout left
         them, the labels of curves ending inside the axes hidden till they are placed there;
-        whether a label now reaches farther right than before [pixels]: the layout left it no
-        room (:func:`._labels.lay_out_again_when`)."""
+        whether a label now reaches farther right than before [pixels] and beyond the figure's
+        edge: the layout left it no room (:func:`._labels.lay_out_again_when`; a label within the
+        figure leaves the layout as it was)."""
         if self._drawn_state(renderer) == self.placed_for:     # placed so at the last drawing
             return False
         self.placed_for = None
-        reach = self._reach(renderer)
+        reach = max(self._reach(renderer), self.ax.figure.bbox.x1 - _EDGE_PIXELS)
         self._set_scales(renderer)
         ends = self._reset_mode_texts()
         for i, end in enumerate(ends):
             if end is not None and end[0] == "inside":
                 set_if_changed(self.mode_texts[i], visible=False)
         self._beside(renderer, [i for i, end in enumerate(ends) if end is not None and end[0] == "right"], ends)
-        return self._reach(renderer) > reach + 0.5
+        return self._reach(renderer) > reach
 
     def _reach(self, renderer):
         """The right end [pixels] of the visible mode labels (-inf: none)."""

@@ -613,9 +613,11 @@ class CurveMap:
         beside its own curve). ``keep`` is a marker's square: the leader is cut where it meets the
         circle inside it (a curve through the square's corner, outside the circle, counts). A
         curve through the marker (its own) meets a leader aimed at the marker only there."""
+        if self.__dict__.get("_bounds") is None:
+            self._bounds = segment_bounds(self._segments)
         if self.units == "axes":
-            return cuts(self._segments, self.origin, self.size, start, end, keep)
-        return cuts(self._segments, (0.0, 0.0), (1.0, 1.0), start, end, keep)
+            return cuts(self._segments, self.origin, self.size, start, end, keep, bounds=self._bounds)
+        return cuts(self._segments, (0.0, 0.0), (1.0, 1.0), start, end, keep, bounds=self._bounds)
 
     def along(self, start, end, keep=None) -> float:
         """How much of the segment ``start -> end`` runs on curves (its length on marked cells,
@@ -678,11 +680,25 @@ def _curve_points(ax, skip, frame, cell, paths):
             start = stop
 
 
-def cuts(segments, origin, size, start, end, keep=None) -> int:
+#: :func:`cuts` leaves out the segments whose bounding box lies this far [pixels] from the
+#: segment's asked about (they cannot cross it; the margin keeps any that round-off might count)
+_BOUNDS_MARGIN = 2.0
+
+
+def segment_bounds(segments):
+    """``(low, high)``: each of the ``segments`` ``(n, 4)``' bounding box corners ``(n, 2)``,
+    for :func:`cuts`."""
+    segments = np.asarray(segments, float).reshape(-1, 4)
+    return np.minimum(segments[:, :2], segments[:, 2:]), np.maximum(segments[:, :2], segments[:, 2:])
+
+
+def cuts(segments, origin, size, start, end, keep=None, bounds=None) -> int:
     """How many of the ``segments`` ``(n, 4)`` [pixels] the segment ``start -> end`` crosses
     outside the marker's square ``keep`` (:meth:`CurveMap.cut`); ``start``, ``end`` and ``keep``
     are in units of ``size`` [pixels] from ``origin`` [pixels] (axes fraction: the axes' origin
-    and size; pixels: (0, 0) and (1, 1))."""
+    and size; pixels: (0, 0) and (1, 1)). ``bounds`` (:func:`segment_bounds` of ``segments``):
+    only the segments whose bounding boxes come near the segment's are tested (the count is the
+    same; the work is the few near it, for a leader asked about again and again)."""
     to_px = np.array(size)
     origin = np.array(origin)
     p, q = origin + np.asarray(start, float) * to_px, origin + np.asarray(end, float) * to_px
@@ -691,6 +707,12 @@ def cuts(segments, origin, size, start, end, keep=None) -> int:
         q = p + _entry(p, q, keep) * (q - p)
     if not len(segments) or np.allclose(p, q):
         return 0
+    if bounds is not None:
+        low, high = np.minimum(p, q) - _BOUNDS_MARGIN, np.maximum(p, q) + _BOUNDS_MARGIN
+        near = np.all((bounds[1] >= low) & (bounds[0] <= high), axis=1)
+        segments = segments[near]
+        if not len(segments):
+            return 0
     r, a, t = q - p, segments[:, :2], segments[:, 2:] - segments[:, :2]
     denominator = r[0] * t[:, 1] - r[1] * t[:, 0]
     ap = a - p
@@ -865,6 +887,37 @@ def draw_time_layout(place):
     artist.set_zorder(-1.0e9)
     artist.set_in_layout(False)
     return artist
+
+
+def lay_out_again_when(fig, grown):
+    """Have each constrained layout of ``fig`` call ``grown(renderer)`` when done, and lay the
+    figure out once more where it returns True.
+
+    For labels whose words depend on the axes' laid-out size (the Campbell diagram's shared
+    right-edge labels): ``grown`` sets them for the axes as laid out and says whether they now
+    reach farther than the layout left room for; the second layout leaves it. Only on a figure
+    with constrained layout (its engine, and its settings, are kept inside); else nothing.
+    """
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    inner = fig.get_layout_engine()
+    if not isinstance(inner, ConstrainedLayoutEngine):
+        return
+
+    class _LaidOutAgain(type(inner)):
+        def __init__(self):             # noqa: D401 - the inner engine's state, not a new one
+            self.__dict__.update(inner.__dict__)
+
+        def execute(self, figure):
+            inner.execute(figure)
+            if grown(figure._get_renderer()):
+                ConstrainedLayoutEngine.execute(inner, figure)
+
+        def set(self, **settings):
+            inner.set(**settings)
+            self.__dict__.update(inner.__dict__)
+
+    fig.set_layout_engine(_LaidOutAgain())
 
 
 def set_if_changed(artist, **properties):

@@ -7,8 +7,8 @@ import numpy as np
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, cuts, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      font_points, operating_band, set_if_changed, text_size, _drawn_segments, _overlap, _ROW_SPLIT,
-                      _short_orders, touching_groups)
+                      font_points, lay_out_again_when, operating_band, segment_bounds, set_if_changed, text_size,
+                      _drawn_segments, _overlap, _ROW_SPLIT, _short_orders, touching_groups)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -62,6 +62,9 @@ _STRADDLE = (0.1, 0.3, 0.5, 0.7, 0.9)
 _ACROSS = (-0.2, 0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0, 1.2)
 
 
+#: a right-edge label reaching nearer the figure's edge than this [pixels] has the figure laid
+#: out again (:meth:`_CampbellLabels._room_beside`)
+_EDGE_PIXELS = 0.5
 #: the critical-speed note keeps at least this many points off the axes' spines
 _NOTE_MARGIN_POINTS = 4.0
 
@@ -691,6 +694,10 @@ class _CampbellLabels:
         self.leaders = [ax.plot([], [], linewidth=0.6, transform=ax.transAxes, clip_on=False,
                                 gid=f"mode-leader {result.modes[m]}")[0] for m in self.modes]
         self._reserve_shared_words()
+        # the right-edge labels as drawn, for the axes as laid out, before each drawing's layout
+        # is final: shared as the first guess above could not know (the 20-rotor chain's
+        # 'modes 15, 40, 85, 86' ran off the figure), where the layout leaves them room
+        lay_out_again_when(ax.figure, self._room_beside)
         self.critical_words = [_speed_text(s) for s in critical[0]]
         self.critical_texts = [self._text(w, gid="critical-label", fontsize="xx-small")
                                for w in self.critical_words] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
@@ -701,6 +708,8 @@ class _CampbellLabels:
         self.critical_note = self._text("", gid="critical-note", fontsize="xx-small") \
             if annotate and len(critical[0]) else None
         self.none_note = None           # the note of a sweep with no critical speed (see plot_campbell)
+        self.placed_for = None          # the state the labels were last placed for (:meth:`_drawn_state`)
+        self._own_lines = set(self.leaders + self.critical_leaders + self.key_leaders)
 
     def mark_uncertain(self, uncertain):
         """Suffix '?' to the words of the critical speeds that are jumps, not crossings."""
@@ -729,6 +738,36 @@ class _CampbellLabels:
                 self.mode_texts[beside[group[0]]].set_text(
                     _mode_words([self.result.modes[self.modes[beside[g]]] for g in group]))
 
+    def _room_beside(self, renderer):
+        """Set the right-edge labels (:meth:`_beside`) for the axes as the figure's layout left
+        them, the labels of curves ending inside the axes hidden till they are placed there;
+        whether a label now reaches farther right than before [pixels] and beyond the figure's
+        edge: the layout left it no room (:func:`._labels.lay_out_again_when`; a label within the
+        figure leaves the layout as it was)."""
+        if self._drawn_state(renderer) == self.placed_for:     # placed so at the last drawing
+            return False
+        self.placed_for = None
+        reach = max(self._reach(renderer), self.ax.figure.bbox.x1 - _EDGE_PIXELS)
+        self._set_scales(renderer)
+        ends = self._reset_mode_texts()
+        for i, end in enumerate(ends):
+            if end is not None and end[0] == "inside":
+                set_if_changed(self.mode_texts[i], visible=False)
+        self._beside(renderer, [i for i, end in enumerate(ends) if end is not None and end[0] == "right"], ends)
+        return self._reach(renderer) > reach
+
+    def _reach(self, renderer):
+        """The right end [pixels] of the visible mode labels (-inf: none)."""
+        return max((t.get_window_extent(renderer).x1 for t in self.mode_texts if t.get_visible() and t.get_text()),
+                   default=-np.inf)
+
+    def _set_scales(self, renderer):
+        """The axes' scales as drawn now: axes fraction per pixel, pixels per point, data to axes."""
+        box = self.ax.get_window_extent(renderer)
+        self.to_u, self.to_v = 1.0 / max(box.width, 1.0), 1.0 / max(box.height, 1.0)
+        self.points = renderer.points_to_pixels(1.0)
+        self.to_axes = (self.ax.transData + self.ax.transAxes.inverted()).transform
+
     def _text(self, text, gid=None, va="bottom", fontsize=_FONT, visible=False, x=0.5, clip_on=True):
         return self.ax.text(x, 0.5, text, transform=self.ax.transAxes, fontsize=fontsize, ha="left", va=va,
                             gid=gid, visible=visible, clip_on=clip_on)
@@ -744,10 +783,10 @@ class _CampbellLabels:
     def place(self, renderer):
         """Place every label for the axes as they are now (called when the axes are drawn)."""
         ax = self.ax
-        box = ax.get_window_extent(renderer)
-        self.to_u, self.to_v = 1.0 / max(box.width, 1.0), 1.0 / max(box.height, 1.0)
-        self.points = renderer.points_to_pixels(1.0)
-        self.to_axes = (ax.transData + ax.transAxes.inverted()).transform
+        state = self._drawn_state(renderer)
+        if state == self.placed_for:      # placed for this very state at the last drawing
+            return
+        self._set_scales(renderer)
         self.curves = CurveMap(ax, renderer, skip=self.leaders + self.critical_leaders + self.key_leaders,
                                units="axes")
         self.renderer, self.mode_map = renderer, None
@@ -759,6 +798,19 @@ class _CampbellLabels:
         self._place_critical(renderer, placed, markers)
         self._place_note(renderer, placed, markers)
         self._place_none_note(renderer, placed, markers)
+        self.placed_for = state
+
+    def _drawn_state(self, renderer):
+        """What the labels' places depend on beyond the labels themselves: the resolution, the
+        figure's and the axes' size and place, the limits and scales, the artists drawn and the
+        title. A drawing in the same state places every label as the last one did (a report's
+        figure is drawn three times: laid out, then saved), so :meth:`place` leaves them."""
+        ax = self.ax
+        return (renderer.points_to_pixels(1.0), tuple(ax.figure.bbox.bounds),
+                tuple(ax.get_window_extent(renderer).bounds), tuple(ax.get_xlim()), tuple(ax.get_ylim()),
+                ax.get_xscale(), ax.get_yscale(), len(ax.lines), len(ax.collections), len(ax.texts),
+                len(ax.patches), ax.title.get_text(),
+                tuple(a.get_visible() for a in ax.lines + ax.collections if a not in self._own_lines))
 
     # -- order lines ---------------------------------------------------------------------
     def _place_orders(self, renderer, placed):
@@ -828,17 +880,23 @@ class _CampbellLabels:
 
     # -- modes ---------------------------------------------------------------------------
     def _place_modes(self, renderer, placed, markers):
-        for text, m in zip(self.mode_texts, self.modes):      # a label shared at the last drawing
-            set_if_changed(text, text=f"mode {self.result.modes[m]}")
-        ends = [self._visible_end(m) for m in self.modes]
+        ends = self._reset_mode_texts()
         beside = [i for i, end in enumerate(ends) if end is not None and end[0] == "right"]
         inside = [i for i, end in enumerate(ends) if end is not None and end[0] == "inside"]
+        self._beside(renderer, beside, ends)
+        self._inside(renderer, inside, ends, placed, markers)
+
+    def _reset_mode_texts(self):
+        """Each mode label's own words again (a label shared at the last drawing), the labels and
+        leaders of curves not in view hidden; the curves' ends (:meth:`_visible_end`)."""
+        for text, m in zip(self.mode_texts, self.modes):
+            set_if_changed(text, text=f"mode {self.result.modes[m]}")
+        ends = [self._visible_end(m) for m in self.modes]
         for i, end in enumerate(ends):
             if end is None:
                 set_if_changed(self.mode_texts[i], visible=False)
                 set_if_changed(self.leaders[i], visible=False)
-        self._beside(renderer, beside, ends)
-        self._inside(renderer, inside, ends, placed, markers)
+        return ends
 
     def _visible_end(self, m):
         """('right', v, k) where mode ``m``'s curve (as drawn) meets the right edge at height
@@ -933,7 +991,7 @@ class _CampbellLabels:
 
         def free(box, leader=False):
             return self.curves.free(box, keep) and (not own_nearest or self._nearest_own(box, anchor, markers, leader)) \
-                and not crosses_any(self.leader_lines, [box])
+                and not crosses_any(self._leader_array(), [box])
 
         box = first_free_box(near, placed, gap, frame, obstacles=markers, allowed=free)
         if box is not None:
@@ -946,6 +1004,7 @@ class _CampbellLabels:
                                                           clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT))
                                       / to_px).tolist()]
         others = list(placed)
+        others_array = np.asarray(others, float).reshape(-1, 4)      # (taken once: the checks run per box)
 
         def leader_clear(box, drawn=True):
             # nor through another marker: its end would touch that circle as much as its own
@@ -957,8 +1016,8 @@ class _CampbellLabels:
             start = nearest_in(box, anchor)
             end = self._short_of(start, anchor, clear_px) if drawn else anchor
             return self._ends_nearest(self._short_of(start, anchor, clear_px), markers, clear_px) \
-                and free(box, leader=True) and not crosses_any([(start, anchor)], others) \
-                and not crosses_segments(start, anchor, self.leader_lines) \
+                and free(box, leader=True) and not crosses_any([(start, anchor)], others_array) \
+                and not crosses_segments(start, anchor, self._leader_array()) \
                 and not crosses_any([(start, end)], markers)
 
         def cost(box):
@@ -967,8 +1026,12 @@ class _CampbellLabels:
                 + _CROSSING_COST * h / self.to_v * max(self.curves.crossings(start, anchor, keep),
                                                        self._mode_cuts(start, anchor, circle))
 
+        distances = {}          # of each box, asked for many times (sorting, bounds, costs)
+
         def distance(box):
-            return box_distance(box * to_px, u / self.to_u, v / self.to_v)
+            if box not in distances:
+                distances[box] = box_distance(box * to_px, u / self.to_u, v / self.to_v)
+            return distances[box]
 
         radius = 0.5 * _MARKER_POINTS * self.points      # the circle's, as drawn
         circle = (u - radius * self.to_u, v - radius * self.to_v, u + radius * self.to_u, v + radius * self.to_v)
@@ -1028,9 +1091,9 @@ class _CampbellLabels:
         (counter_rotating's '1663' ended at the join of the 1663 and 1700 rpm circles)."""
         if not len(markers):
             return True
-        boxes = np.asarray(markers, float).reshape(-1, 4)
-        du = ((boxes[:, 0] + boxes[:, 2]) / 2 - end[0]) / self.to_u
-        dv = ((boxes[:, 1] + boxes[:, 3]) / 2 - end[1]) / self.to_v
+        middle_u, middle_v, _ = self._marker_centres(markers)
+        du = (middle_u - end[0]) / self.to_u
+        dv = (middle_v - end[1]) / self.to_v
         return bool(np.all(np.hypot(du, dv) >= _NEAREST_OWN * clear_px))
 
     def _nearest_own(self, box, anchor, markers, leader=False):
@@ -1042,15 +1105,35 @@ class _CampbellLabels:
         own at the end of its leader, and was read as the 710 rpm circle's speed."""
         if not len(markers):
             return True
-        boxes = np.asarray(markers, float).reshape(-1, 4)
         scale = np.array([self.to_u, self.to_v])
-        centres = np.column_stack([boxes[:, 0] + boxes[:, 2], boxes[:, 1] + boxes[:, 3]]) / 2 / scale
+        centres = self._marker_centres(markers)[2]
         low, high = np.array(box[:2]) / scale, np.array(box[2:]) / scale
         point = np.asarray(anchor) / scale
         own = float(np.hypot(*np.maximum(np.maximum(low - point, point - high), 0.0)))
         near = np.hypot(*np.maximum(np.maximum(low - centres, centres - high), 0.0).T)
         least = min(_NEAREST_OWN * own, _BESIDE_POINTS * self.points) if leader else _NEAREST_OWN * own
         return bool(np.all(near >= least))
+
+    def _marker_centres(self, markers):
+        """The centres of the ``markers`` (boxes, axes fraction): u and v (n,) [axes fraction] and
+        (n, 2) [pixels]; worked out once for the list given (its boxes are tried many times)."""
+        cached = self.__dict__.get("marker_centres")
+        if cached is None or cached[0] is not markers or cached[1] != (self.to_u, self.to_v):
+            boxes = np.asarray(markers, float).reshape(-1, 4)
+            scale = np.array([self.to_u, self.to_v])
+            centres = np.column_stack([boxes[:, 0] + boxes[:, 2], boxes[:, 1] + boxes[:, 3]]) / 2 / scale
+            cached = self.marker_centres = (markers, (self.to_u, self.to_v), (boxes[:, 0] + boxes[:, 2]) / 2,
+                                            (boxes[:, 1] + boxes[:, 3]) / 2, centres)
+        return cached[2:]
+
+    def _leader_array(self):
+        """The leader lines drawn so far (:attr:`leader_lines`) as an (n, 4) array, made again only
+        when one was added."""
+        cached = self.__dict__.get("leader_array")
+        if cached is None or cached[0] is not self.leader_lines or cached[1] != len(self.leader_lines):
+            cached = self.leader_array = (self.leader_lines, len(self.leader_lines),
+                                          np.asarray(self.leader_lines, float).reshape(-1, 4))
+        return cached[2]
 
     def _short_of(self, start, centre, clear_px):
         """The end (axes fraction) of a leader line from ``start`` to ``centre`` (axes fraction)
@@ -1070,8 +1153,9 @@ class _CampbellLabels:
             frame = ax.get_window_extent(self.renderer)
             segments = _drawn_segments(ax, self.leaders + self.critical_leaders + self.key_leaders + orders,
                                        (frame.x0, frame.y0, frame.x1, frame.y1))
-            self.mode_map = (segments, (frame.x0, frame.y0), (frame.width, frame.height))
-        return cuts(*self.mode_map, start, end, keep)
+            self.mode_map = (segments, (frame.x0, frame.y0), (frame.width, frame.height), segment_bounds(segments))
+        segments, origin, size, bounds = self.mode_map
+        return cuts(segments, origin, size, start, end, keep, bounds=bounds)
 
     @staticmethod
     def _show_leader(line, leader, colour):

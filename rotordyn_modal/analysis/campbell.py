@@ -1050,7 +1050,8 @@ def _links_of_steps(stack, speeds, values, steps, count, progress=False) -> dict
     calls one root (:func:`_sweep_labels`)."""
     more = min(count + _EXTRA_ROOTS, stack_root_count(stack))
     try:
-        grids, lam, rows, where = _check_grids(stack, speeds, steps, count, more, progress)
+        memo = {}                                    # the check's tracking of each grid
+        grids, lam, rows, where = _check_grids(stack, speeds, steps, count, more, progress, memo)
         extra = _tied_neighbours(steps, grids, lam, values)
         if len(extra):                               # a run may not end where a root meets another
             added, more_lam, more_rows, more_where = _check_grids(stack, speeds, extra, count, more, progress)
@@ -1064,9 +1065,12 @@ def _links_of_steps(stack, speeds, values, steps, count, progress=False) -> dict
     for run in _runs(steps, [k for k in steps if np.any(_copies_of(values[k], lam[grids[int(k)][0]]) > 1)]):
         at = np.concatenate([grids[run[0]]] + [grids[k][1:] for k in run[1:]])
         ends = np.cumsum([0] + [len(grids[k]) - 1 for k in run])        # each sweep speed's place in ``at``
-        order = track_modes_many(lam[at][None], rows[at][None], where[at])[0]     # (P, m): label -> check root
+        if len(run) == 1:                            # one step: as the check last tracked its grid
+            order, _, untold = _grid_tracking(lam, rows, count, where, at, memo)
+        else:
+            order = track_modes_many(lam[at][None], rows[at][None], where[at])[0]     # (P, m): label -> check root
+            untold = _unsure_labels(lam[at], rows[at], count, order)[1]
         labels = _sweep_labels(lam[at[ends]], order[ends], values[run[0]:run[-1] + 2])
-        untold = _unsure_labels(lam[at], rows[at], count, order)[1]
         for s, k in enumerate(run):
             link = _step_link(labels[s], labels[s + 1], np.flatnonzero(untold[ends[s]:ends[s + 1]].any(axis=0)))
             if link is not None:
@@ -1169,7 +1173,7 @@ def _tie_cost(label_of, near, c):
 _CHECK_LEVELS = 6
 
 
-def _check_grids(stack, speeds, steps, count, more, progress=False):
+def _check_grids(stack, speeds, steps, count, more, progress=False, memo=None):
     """The check's speeds over each doubtful step and its ``more`` lowest roots there.
 
     Each step is halved where the check's tracking over a part of it is unsure for one of the
@@ -1187,23 +1191,31 @@ def _check_grids(stack, speeds, steps, count, more, progress=False):
         Their weighted shapes.
     where : ndarray, shape (P,) [rad/s]
         The speed of each.
+
+    ``memo``, where given (a dict), receives the check's tracking of each step's grid as it was
+    last judged (:func:`_grid_tracking`, keyed by the grid's indices into ``lam``): the caller
+    that tracks a step alone over the same grid takes it from there instead of tracking it again.
     """
     described = f"checking {len(steps)} doubtful step{'s' if len(steps) != 1 else ''} of the lowest modes"
     with phase(progress, described) as bar:
         at = np.unique(np.concatenate([steps, steps + 1]))
         lam, rows = _check_roots(stack, speeds[at], more)
-        return _halved(stack, speeds, steps, count, more, at, lam, rows, bar, described)
+        return _halved(stack, speeds, steps, count, more, at, lam, rows, bar, described, memo)
 
 
-def _halved(stack, speeds, steps, count, more, at, lam, rows, bar, described):
+def _halved(stack, speeds, steps, count, more, at, lam, rows, bar, described, memo=None):
     """:func:`_check_grids`' halvings, from the check's roots ``lam``, ``rows`` at the steps' ends
-    ``speeds[at]``; ``bar`` (a :func:`.._progress.phase` line, or None) renamed each level."""
+    ``speeds[at]``; ``bar`` (a :func:`.._progress.phase` line, or None) renamed each level. A step
+    none of whose parts was halved at a level keeps its grid, and so its unsure parts (none): only
+    the steps just halved are tracked again."""
     index = {int(k): i for i, k in enumerate(at)}
     grids = {int(k): np.array([index[int(k)], index[int(k) + 1]]) for k in steps}
     points = {int(k): [float(speeds[k]), float(speeds[k + 1])] for k in steps}
     where = speeds[at]
+    memo = {} if memo is None else memo
+    halves = dict(grids)                                 # the steps (re)judged at the next level
     for level in range(_CHECK_LEVELS):
-        halves = {k: _unsure_parts(lam[grid], rows[grid], count, where[grid]) for k, grid in grids.items()}
+        halves = {k: _grid_tracking(lam, rows, count, where, grids[k], memo)[1] for k in halves}
         halves = {k: parts for k, parts in halves.items() if len(parts)}
         if not halves:
             break
@@ -1236,6 +1248,19 @@ def _check_roots(stack, speeds, more):
             lam, phi, _ = _lowest.lowest_roots(stack, speeds, more)
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
         return lam, WeightedRows(stack, phi[None], one_thread=True)[0]
+
+
+def _grid_tracking(lam, rows, count, where, grid, memo):
+    """The check's tracking over one step's ``grid`` (indices into ``lam`` (P, m), ``rows`` (P, m, n),
+    ``where`` (P,)): ``(order, unsure parts, untold)`` as :func:`_unsure_parts` and
+    :func:`_unsure_labels` give them, kept in ``memo`` by the grid's indices (the same indices are
+    the same roots within one check: its arrays only grow)."""
+    key = tuple(int(i) for i in grid)
+    if key not in memo:
+        order = track_modes_many(lam[grid][None], rows[grid][None], where[grid])[0]
+        unsure, untold = _unsure_labels(lam[grid], rows[grid], count, order)
+        memo[key] = order, [int(p) for p in np.flatnonzero(unsure.any(axis=1))], untold
+    return memo[key]
 
 
 def _unsure_parts(lam, rows, count, where=None) -> list:
@@ -1275,29 +1300,31 @@ def _unsure_labels(lam, rows, count, order):
     from ._vectors import mac_matrix
     from .tracking import _CONFIDENT_MAC
 
-    unsure = np.zeros((len(lam) - 1, lam.shape[1]), dtype=bool)
-    untold = unsure.copy()
-    for p in range(len(lam) - 1):
-        a, b = lam[p, order[p]], lam[p + 1, order[p + 1]]
-        macs = mac_matrix(rows[p, order[p]], rows[p + 1, order[p + 1]])
-        mac = np.diagonal(macs)
-        other = np.abs(a[:, None] - a[None, :]) > _SAME_VALUE * np.abs(a)[:, None]   # not itself, nor its copies
-        gap = np.minimum(np.where(other, np.abs(a[:, None] - a[None, :]), np.inf),
-                         np.where(other, np.abs(b[:, None] - b[None, :]), np.inf)).min(axis=1)
-        copies = _copies(b)
-        moved = (np.abs(b - a) >= 0.5 * gap) | _elsewhere(macs, ~other, copies)
-        rank_a, rank_b = (np.argsort(np.argsort(np.abs(x.imag), kind="stable"), kind="stable") for x in (a, b))
-        lowest = (rank_a < count) | (rank_b < count)
-        unsure[p] = (mac < _CONFIDENT_MAC) & moved & lowest & (rank_a < len(a) - 1) & (rank_b < len(b) - 1)
-        top = (rank_a == len(a) - 1) | (rank_b == len(b) - 1)
-        untold[p] = (mac < _CONFIDENT_MAC) & moved & lowest & top & ((~other).sum(axis=1) == 1) & (copies.sum(axis=1) == 1)
+    # every part at once (each part's numbers as its own: a stack of the same products)
+    labelled = np.arange(len(lam))[:, None]
+    values, shapes = lam[labelled, order], rows[labelled, order]            # (P, m), (P, m, n) by label
+    a, b = values[:-1], values[1:]                                          # each part's two ends
+    macs = mac_matrix(shapes[:-1], shapes[1:])                              # (P - 1, m, m)
+    mac = np.diagonal(macs, axis1=-2, axis2=-1)
+    other = np.abs(a[:, :, None] - a[:, None, :]) > _SAME_VALUE * np.abs(a)[:, :, None]   # not itself, nor its copies
+    gap = np.minimum(np.where(other, np.abs(a[:, :, None] - a[:, None, :]), np.inf),
+                     np.where(other, np.abs(b[:, :, None] - b[:, None, :]), np.inf)).min(axis=-1)
+    copies = _copies(b)
+    moved = (np.abs(b - a) >= 0.5 * gap) | _elsewhere(macs, ~other, copies)
+    rank_a, rank_b = (np.argsort(np.argsort(np.abs(x.imag), axis=-1, kind="stable"), axis=-1, kind="stable")
+                      for x in (a, b))
+    lowest = (rank_a < count) | (rank_b < count)
+    m = lam.shape[1]
+    unsure = (mac < _CONFIDENT_MAC) & moved & lowest & (rank_a < m - 1) & (rank_b < m - 1)
+    top = (rank_a == m - 1) | (rank_b == m - 1)
+    untold = (mac < _CONFIDENT_MAC) & moved & lowest & top & ((~other).sum(axis=-1) == 1) & (copies.sum(axis=-1) == 1)
     return unsure, untold
 
 
 def _copies(values):
-    """(m, m) bool: the roots of ``values`` (m,) within :data:`_SAME_VALUE` of each other (a
+    """(..., m, m) bool: the roots of ``values`` (..., m) within :data:`_SAME_VALUE` of each other (a
     repeated root's copies, each its own copy)."""
-    return np.abs(values[:, None] - values[None, :]) <= _SAME_VALUE * np.abs(values)[:, None]
+    return np.abs(values[..., :, None] - values[..., None, :]) <= _SAME_VALUE * np.abs(values)[..., :, None]
 
 
 def _elsewhere(mac, before, after):
@@ -1310,20 +1337,21 @@ def _elsewhere(mac, before, after):
 
     Parameters
     ----------
-    mac : ndarray, shape (m, m)
-        MAC of each label's weighted shape at the first end (rows) with each at the second.
-    before, after : ndarray of bool, shape (m, m)
+    mac : ndarray, shape (..., m, m)
+        MAC of each label's weighted shape at the first end (rows) with each at the second
+        (several parts stacked: each its own).
+    before, after : ndarray of bool, shape (..., m, m)
 
     Returns
     -------
-    ndarray of bool, shape (m,)
+    ndarray of bool, shape (..., m)
     """
     from .tracking import _CONFIDENT_MAC
 
     a, b = before.astype(float), after.astype(float)
     grouped = a @ mac @ b                          # a's copies (rows) against b's copies (columns)
     own = (a @ b) > 0                              # the labels a label's copies became, and their copies
-    return np.any((grouped >= _CONFIDENT_MAC) & ~own, axis=1)
+    return np.any((grouped >= _CONFIDENT_MAC) & ~own, axis=-1)
 
 
 def _step_link(before, after, untold=()):

@@ -188,16 +188,24 @@ def _ambiguous_step(k, order, eigenvalues, shapes, last_good, stretch=1.0):
     distance = np.abs(predicted[:, None] - eigenvalues[k][None, :]) / scale[:, None]
     cost = (1.0 - correlation) + distance
     assigned = np.empty(n, dtype=int)
-    kept_rows, kept_columns = _kept_in_place(previous, eigenvalues[k], correlation, predicted)
+    natures = _nature(previous), _nature(eigenvalues[k])          # asked for twice below
+    kept_rows, kept_columns = _kept_in_place(previous, eigenvalues[k], correlation, predicted, natures)
     assigned[kept_rows] = kept_columns
-    free_rows = np.setdiff1d(labels, kept_rows)
-    free_columns = np.setdiff1d(labels, kept_columns)
+    free_rows, free_columns = _left_over(n, kept_rows), _left_over(n, kept_columns)
     rows, columns = linear_sum_assignment(cost[np.ix_(free_rows, free_columns)])
     assigned[free_rows[rows]] = free_columns[columns]
-    _keep_still(assigned, previous, eigenvalues[k], predicted, free_rows)
+    _keep_still(assigned, previous, eigenvalues[k], predicted, free_rows, natures)
     local = mac_matrix(shapes[k - 1, order[k - 1]], shapes[k, assigned])
     sure = np.diagonal(local) > _CONFIDENT_MAC
     return assigned, sure
+
+
+def _left_over(n, taken):
+    """The indices of ``range(n)`` not in ``taken``, increasing (``numpy.setdiff1d`` of ``arange(n)``,
+    without its sort)."""
+    free = np.ones(n, dtype=bool)
+    free[taken] = False
+    return np.flatnonzero(free)
 
 
 #: a root continues a mode plainly where its MAC with the mode's shapes is at least this ...
@@ -206,7 +214,7 @@ _KEPT_MAC = 0.99
 _KEPT_DISTANCE = 0.1
 
 
-def _kept_in_place(previous, current, correlation, predicted):
+def _kept_in_place(previous, current, correlation, predicted, natures=None):
     """The labels (rows) whose mode plainly continues in one root (columns) at the next speed.
 
     A root continues a label's mode when, of the roots of the label's nature (:func:`_nature`),
@@ -227,12 +235,15 @@ def _kept_in_place(previous, current, correlation, predicted):
         MAC of each label's last sure shape (rows) with the roots at the speed (columns).
     predicted : ndarray, shape (n,), complex [1/s]
         Each label's extrapolated eigenvalue at the speed.
+    natures : (ndarray, ndarray), optional
+        ``_nature(previous)`` and ``_nature(current)``, where the caller has them.
 
     Returns
     -------
     rows, columns : ndarray of int, shape (p,)
     """
-    sure = (correlation >= _KEPT_MAC) & (_nature(previous)[:, None] == _nature(current)[None, :])
+    before, now = (_nature(previous), _nature(current)) if natures is None else natures
+    sure = (correlation >= _KEPT_MAC) & (before[:, None] == now[None, :])
     alone = sure & (sure.sum(axis=1) == 1)[:, None] & (sure.sum(axis=0) == 1)[None, :]
     near = np.abs(current[None, :] - predicted[:, None]) <= _KEPT_DISTANCE * np.abs(predicted)[:, None]
     return np.nonzero(alone & near)
@@ -243,7 +254,7 @@ def _kept_in_place(previous, current, correlation, predicted):
 _STILL = 1e-9
 
 
-def _keep_still(assigned, previous, current, predicted, rows):
+def _keep_still(assigned, previous, current, predicted, rows, natures=None):
     """Give back, in ``assigned`` (each label's root at the speed, changed in place), each label
     of ``rows`` whose root stands still a root at that same value.
 
@@ -265,15 +276,20 @@ def _keep_still(assigned, previous, current, predicted, rows):
         As for :func:`_kept_in_place`.
     rows : ndarray of int
         The labels assigned (not kept in place).
+    natures : (ndarray, ndarray), optional
+        As for :func:`_kept_in_place`.
     """
     tolerance = _STILL * max(np.abs(current).max(), np.abs(previous).max())
     still = [int(r) for r in rows if abs(previous[r] - predicted[r]) <= tolerance]
     if not still:
         return
-    nature_before, nature_now = _nature(previous), _nature(current)
+    # (label, column): the root at the label's value, of its nature; every pair at once (the loop
+    # below asks for many: at the second speed every label stands still)
+    before, now = (_nature(previous), _nature(current)) if natures is None else natures
+    at = ((np.abs(current[None, :] - previous[:, None]) <= tolerance) & (before[:, None] == now[None, :])).tolist()
 
     def at_value(label, column):
-        return abs(current[column] - previous[label]) <= tolerance and nature_before[label] == nature_now[column]
+        return at[label][column]
 
     holder = {int(c): int(r) for r, c in zip(rows, assigned[rows])}
     for label in still:

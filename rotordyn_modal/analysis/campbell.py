@@ -17,9 +17,9 @@ from .._progress import phase
 from ..errors import InputError
 from . import _arguments, _batches, _eigensolve, _roots, _whirl
 from ._stack import Stack
-from .critical_speeds import (_SUB_DEPTH, _SUB_SPEEDS, JUMP_TOLERANCE, CriticalSpeeds, ExcitationSources,
-                              _critical_table, _find_critical_speeds, _warn_of_jumps, _with_sweep, excitation_sources,
-                              off_order_line)
+from .critical_speeds import (_SUB_DEPTH, _SUB_SPEEDS, JUMP_TOLERANCE, ROUND_OFF_RELATIVE, WHIRL_ROUND_OFF,
+                              CriticalSpeeds, ExcitationSources, _critical_table, _find_critical_speeds,
+                              _warn_of_jumps, _with_sweep, excitation_sources, off_order_line)
 from .modal import is_oscillating, modal_quantities
 from .mode_numbers import numbers_at_speed
 from ._weighted_rows import WeightedRows
@@ -362,12 +362,6 @@ def _with_points(speeds, frequencies, at, values):
             np.insert(index, where, np.maximum(where - 1, 0)))
 
 
-#: relative round-off of a sweep's root, ``|lam|`` times it (as ``stability``'s verdict takes it)
-ROUND_OFF_RELATIVE = 1e-10
-#: what round-off can move a sweep's whirl ratio by, at most (a shape is known to about the
-#: eigen-solve's noise over the gap to the next root): a ratio of -2e-15 on a casing without
-#: rotors, or -2.5e-10 on a rotor at rest on anisotropic bearings, is a planar mode's 0
-WHIRL_ROUND_OFF = 1e-9
 
 
 def _round_off_columns(eigenvalues, whirl_round_off=None) -> dict:

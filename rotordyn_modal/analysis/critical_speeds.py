@@ -58,6 +58,14 @@ def excitation_sources(model) -> ExcitationSources:
     return ExcitationSources(tuple(names), np.array(multipliers, dtype=float))
 
 
+#: relative round-off of a sweep's root, ``|lam|`` times it (as ``stability``'s verdict takes it)
+ROUND_OFF_RELATIVE = 1e-10
+#: what round-off can move a sweep's whirl ratio by, at most (a shape is known to about the
+#: eigen-solve's noise over the gap to the next root): a ratio of -2e-15 on a casing without
+#: rotors, or -2.5e-10 on a rotor at rest on anisotropic bearings, is a planar mode's 0
+WHIRL_ROUND_OFF = 1e-9
+
+
 @dataclass(frozen=True)
 class CriticalSpeeds:
     """Crossings of tracked natural frequencies with excitation orders.
@@ -139,6 +147,10 @@ class CriticalSpeeds:
         if numbers:
             found = self.mode_at_speed
             table["mode_at_speed"] = pd.array([pd.NA] * len(self), dtype="Int64") if found is None else found
+        # the terminal prints values within them as 0 (``cli._common.print_table``), as campbell's table:
+        # a planar mode's whirl ratio of 6e-38 or an undamped mode's damping ratio of -5e-25 is a 0
+        table.attrs["round_off"] = {"whirl_ratio": np.full(len(self), WHIRL_ROUND_OFF),
+                                    "damping_ratio": np.full(len(self), ROUND_OFF_RELATIVE)}
         return table
 
 

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import sys
+
+import numpy as np
+
 from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
@@ -99,12 +103,39 @@ def run(args) -> int:
                       modes=lowest, max_frequency=limit)
     empty = (f"no oscillating modes {speeds_text(args)}: {result.eigenvalues.shape[1]} roots at each speed, all "
              "real or overdamped") if limit is None else f"no mode below {limit:g} Hz {speeds_text(args)}"
-    write_table(undamped_zeros(result.to_dataframe(), model), args, empty=empty)
+    table = undamped_zeros(result.to_dataframe(), model)
+    write_table(table, args, empty=empty)
+    if (counts := _not_listed(result)) and len(table) and not args.quiet:
+        print(f"{counts} not listed as modes (docs/model-file.md, roots that are not modes)", file=sys.stderr)
     if args.plot:
         use_agg()
         save_figure(result.plot(color_by=args.color_by, title=model.name or None, speed_unit=args.speed_unit,
                                 **axis), args)
     return 0
+
+
+def _not_listed(result) -> str:
+    """The result's roots that are not modes, counted as ``modes`` counts them at one speed:
+    ``24 real roots kept (relaxation, rigid-body; ...) at each speed and up to 2 overdamped root pairs
+    (damping ratio > 0.99) a speed``; empty when every root is a mode. Real roots are the
+    result's own (it keeps one root of each conjugate pair, and of the real roots, which have no
+    partner, the half nearest zero: docs/theory.md section 8); a sweep of the lowest modes
+    counts only those it solved."""
+    from ..analysis.modal import OVERDAMPED_LIMIT
+
+    lam = result.eigenvalues
+    solved = np.isfinite(lam)
+    real = np.sum(solved & (lam.imag == 0), axis=1)
+    overdamped = np.sum(solved & (lam.imag != 0) & ~result.oscillatory, axis=1)
+    parts = []
+    for counts, what in ((real, "real root{} kept (relaxation, rigid-body; the half nearest zero, docs/theory.md "
+                                "section 8)"),
+                         (overdamped, f"overdamped root pair{{}} (damping ratio > {OVERDAMPED_LIMIT})")):
+        if counts.max(initial=0):
+            plural = "s" if counts.max() > 1 else ""
+            parts.append(f"{counts.max()} {what.format(plural)} at each speed" if counts.min() == counts.max()
+                         else f"up to {counts.max()} {what.format(plural)} a speed")
+    return " and ".join(parts)
 
 
 def _add_frequency_axis(parser):

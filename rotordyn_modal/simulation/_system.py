@@ -334,16 +334,17 @@ def integration_failure(code, time, finite=True) -> str:
     return f"the integration stopped at t = {time:.6g} s (DOP853 code {code}): {cause}"
 
 
-def check_duration(duration, rate):
+def check_duration(duration, rate, advice: str = ""):
     """Refuse a duration of more periods of the fastest motion (``rate`` [rad/s]) than the count
-    limit: the integrator's steps grow with them, so such a run would not end in any useful time."""
+    limit: the integrator's steps grow with them, so such a run would not end in any useful time.
+    ``advice``: words after the fastest motion's frequency (what the caller can change)."""
     from .._limits import count_problem
 
     periods = duration * rate / (2 * np.pi)
     problem = count_problem(int(min(periods, 1e18)), "periods of the fastest motion")
     if problem:
         raise InputError(f"duration = {duration!r} s: expected {problem} "
-                         f"(the fastest motion is {rate / (2 * np.pi):.4g} Hz)")
+                         f"(the fastest motion is {rate / (2 * np.pi):.4g} Hz{advice})")
 
 
 #: the end time's float resolution (``duration`` times the machine epsilon, 2.2e-16) must stay below

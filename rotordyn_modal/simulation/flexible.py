@@ -498,6 +498,17 @@ def _say(line, loud):
     sys.stderr.flush()
 
 
+def _reached_words(reach, rate) -> str:
+    """', undamped mode 9 (5,152 Hz), 35 % of ... (at probe-x)' where ``rate`` [rad/s] is a mode
+    the sudden loads reach (``reach``, or None), else ''."""
+    if reach is None or not len(reach.frequencies):
+        return ""
+    j = int(np.argmin(np.abs(reach.frequencies - rate)))
+    if not (np.isclose(reach.frequencies[j], rate, rtol=1e-9) and np.isfinite(reach.shares[j]) and reach.shares[j] > 0):
+        return ""
+    return f", {_mode_words(reach, j)}"
+
+
 def _mode_words(reach, j) -> str:
     """'undamped mode 9 (8,979 Hz), 35 % of the largest modal response to the impulse at shaker-y
     (at probe-x)' for the message lines."""
@@ -579,7 +590,8 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     system = reduced_system(model, speed, cutoff, loads, unbalance_phases_deg)
     below = system.frequencies[:system.modes]
     rate = max(fastest, below[below < cutoff].max(initial=0.0) if np.isfinite(cutoff) else below.max(initial=0.0))
-    check_duration(duration, rate)
+    check_duration(duration, rate, "" if modes_below is not None else
+                   f"{_reached_words(reach, rate)}; --max-frequency HZ keeps only the flexible rotors' modes below HZ")
     check_resolution(duration, max(rate, system.frequencies.max(initial=0.0)), samples)   # every basis motion
     if samples:
         count = samples

@@ -1140,16 +1140,29 @@ def _mark_clipped(ax):
             ax.plot([x[k]], [bottom], marker=7, linestyle="none", ms=6, color=line.get_color(), clip_on=False,
                     gid="clipped", label="_clipped")
             if first:
-                note = ax.text(0.995, 0.01, f"\u25bc below the axis (clipped at {bottom:.1e})", transform=ax.transAxes,
+                note = ax.text(0.995, 0.01, _clipped_words(bottom, ax.get_ylabel()), transform=ax.transAxes,
                                ha="right", va="bottom", fontsize="xx-small", color="0.25", gid="clipped-note",
                                bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8})
             first = False
     if not first:                                   # the corner chosen at draw time: final scales and layout
         from ._labels import draw_time_layout
 
-        layout = draw_time_layout(lambda renderer: _clear_corner(ax, note, renderer))
+        def place(renderer):
+            note.set_text(_clipped_words(bottom, ax.get_ylabel()))     # the axis label is set by then
+            _clear_corner(ax, note, renderer)
+
+        layout = draw_time_layout(place)
         layout.set_gid("clipped-note-layout")
         ax.add_artist(layout)
+
+
+def _clipped_words(bottom, label: str) -> str:
+    """'▼ below the axis (clipped at 1.7e-04 µm)': the axis's bottom ``bottom`` in the unit the
+    axis label ``label`` gives in its last brackets (none where it has none)."""
+    import re
+
+    unit = re.search(r"\[([^\[\]]+)\]\s*$", label or "")
+    return f"\u25bc below the axis (clipped at {bottom:.1e}{' ' + unit.group(1) if unit else ''})"
 
 
 #: corners of the axes the clipped-note may stand in, in order of preference: (x, y, ha, va)

@@ -93,3 +93,14 @@ def test_campbell_says_nothing_where_every_root_is_a_mode(capsys):
     assert not np.any(np.abs(roots.imag) <= 1e-9 * np.abs(roots))
     assert main(["campbell", str(path), "--speeds", "0:3000:7"]) == 0
     assert "not listed as modes" not in capsys.readouterr().err
+
+
+def test_critical_speed_tables_of_two_sweeps_concatenate():
+    """The table's round-off is kept where pandas can compare it: the tables of two machines (as
+    notebooks/07 puts a rigid and a flexible rotor side by side) concatenate."""
+    import rotordyn_modal as rdm
+
+    tables = [rdm.campbell(rdm.load_model(ROOT / "examples" / name), rdm.rpm(np.linspace(0.0, 3000.0, 16)))
+              .critical.to_dataframe() for name in ("gear_machine.toml", "rubber_mounts.toml")]
+    both = pd.concat(tables, ignore_index=True)
+    assert len(both) == len(tables[0]) + len(tables[1])

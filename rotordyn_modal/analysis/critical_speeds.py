@@ -148,9 +148,9 @@ class CriticalSpeeds:
             found = self.mode_at_speed
             table["mode_at_speed"] = pd.array([pd.NA] * len(self), dtype="Int64") if found is None else found
         # the terminal prints values within them as 0 (``cli._common.print_table``), as campbell's table:
-        # a planar mode's whirl ratio of 6e-38 or an undamped mode's damping ratio of -5e-25 is a 0
-        table.attrs["round_off"] = {"whirl_ratio": np.full(len(self), WHIRL_ROUND_OFF),
-                                    "damping_ratio": np.full(len(self), ROUND_OFF_RELATIVE)}
+        # a planar mode's whirl ratio of 6e-38 or an undamped mode's damping ratio of -5e-25 is a 0.
+        # Numbers, not arrays: pandas compares the attrs of tables it concatenates
+        table.attrs["round_off"] = {"whirl_ratio": WHIRL_ROUND_OFF, "damping_ratio": ROUND_OFF_RELATIVE}
         return table
 
 

@@ -903,7 +903,7 @@ def print_table(table, empty: str | None = None):
     A table without rows prints ``empty`` (a sentence such as "no critical speed between 500 and
     15000 rpm"; default "nothing to list"), not pandas' ``Empty DataFrame``. Numbers within their
     round-off print as 0: ``table.attrs["round_off"]`` maps a column to what round-off can move
-    its values by, row by row (see ``ModalResult.to_dataframe``); no number prints as -0.
+    its values by, row by row (or one number for every row) (see ``ModalResult.to_dataframe``); no number prints as -0.
     """
     if table.empty:
         print(empty or "nothing to list")
@@ -920,7 +920,8 @@ def _at_round_off(table, round_off: dict):
     for column, noise in round_off.items():
         if column in table:
             values = table[column].to_numpy(dtype=float)
-            table[column] = np.where(np.abs(values) <= np.asarray(noise)[:len(values)], 0.0, values)
+            noise = np.asarray(noise, dtype=float)              # one number for the column, or one a row
+            table[column] = np.where(np.abs(values) <= (noise if noise.ndim == 0 else noise[:len(values)]), 0.0, values)
     return table
 
 

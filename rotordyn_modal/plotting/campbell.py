@@ -68,6 +68,8 @@ _ACROSS = (-0.2, 0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0, 1.2)
 #: a right-edge label reaching nearer the figure's edge than this [pixels] has the figure laid
 #: out again (:meth:`_CampbellLabels._after_layout`)
 _EDGE_PIXELS = 0.5
+#: the keys above the axes keep this many points from the title beside them (:meth:`_CampbellLabels._place_keys`)
+_TITLE_GAP_POINTS = 8.0
 #: the critical-speed note keeps at least this many points off the axes' spines
 _NOTE_MARGIN_POINTS = 4.0
 
@@ -773,6 +775,15 @@ class _CampbellLabels:
             return False
         fig = self.ax.figure
         reach = max(self._reach(renderer), fig.bbox.x1 - _EDGE_PIXELS)
+        self._set_scales(renderer)
+        self.placed_for = None
+        ends = self._reset_mode_texts()
+        for i, end in enumerate(ends):      # (curves ending inside the axes: labelled there, by place)
+            if end is not None and end[0] == "inside":
+                set_if_changed(self.mode_texts[i], visible=False)
+        self._beside(renderer, [i for i, end in enumerate(ends) if end is not None and end[0] == "right"], ends)
+        if self._reach(renderer) > reach:       # the right-edge labels alone ask for room: the rest waits
+            return True
         self.place(renderer)
         again = self._reach(renderer) > reach
         entry = _critical_entry(self.ax)
@@ -870,11 +881,14 @@ class _CampbellLabels:
         ax, fig = self.ax, self.ax.figure
         frame = ax.get_window_extent(renderer)
         gap = _PAD_POINTS * self.points
-        obstacles = [artist.get_window_extent(renderer) for artist in
-                     [ax.title, ax._left_title, ax._right_title] + ax.get_xticklabels() + ax.get_yticklabels()
+        titles = [ax.title, ax._left_title, ax._right_title]
+        obstacles = [(artist.get_window_extent(renderer), artist in titles) for artist in
+                     titles + ax.get_xticklabels() + ax.get_yticklabels()
                      + [t for t in self.mode_texts if t.get_visible()]
                      if artist.get_visible() and artist.get_text()]
-        obstacles = [(b.x0, b.y0, b.x1, b.y1) for b in obstacles]
+        # a title keeps a word's space from the keys beside it (2 points read as one line of text)
+        wider = (_TITLE_GAP_POINTS - _PAD_POINTS) * self.points
+        obstacles = [(b.x0 - wider * title, b.y0, b.x1 + wider * title, b.y1) for b, title in obstacles]
         bottom = frame.y1 + 2 * gap
         shown = 0
         right_of = max(frame.x0, fig.bbox.x0 + gap)
@@ -1256,8 +1270,10 @@ class _CampbellLabels:
 
     def _in_view(self):
         """Indices of the critical speeds whose markers lie inside the axes."""
-        return [k for k, point in enumerate(zip(*self.critical))
-                if all(0 <= c <= 1 for c in self.to_axes(point))]
+        if not len(self.critical[0]):
+            return []
+        points = self.to_axes(np.column_stack(self.critical))
+        return np.flatnonzero(np.all((points >= 0) & (points <= 1), axis=1)).tolist()
 
     def _unlabelled_critical(self):
         """Indices of the critical speeds inside the axes whose speed no visible label reads."""
@@ -1322,8 +1338,10 @@ class _CampbellLabels:
                     self.note_modes = {int(self.critical_modes[k]) for k in left}
                 return
         set_if_changed(note, visible=False)
-        if entry is not None:
-            set_if_changed(entry, text=f"critical speed ({self._note_texts(left)[-1]})")
+        if entry is not None:           # on two lines: one as long as the note's reached past a small figure
+            total = len(self._in_view())
+            set_if_changed(entry, text=f"critical speed ({total - len(left)} of {total} labelled,\n"
+                                       "all in the critical-speeds table)")
 
     def _name_mentioned(self):
         """The compact right-edge labels (:func:`_mode_words`) that leave out a mode the note

@@ -969,7 +969,8 @@ class _CampbellLabels:
         leader line. Where the labels would not fit the axes' height, or would stand more than
         :data:`_MOST_SHIFT` label heights from their curves, curves whose ends lie close share one
         label ('modes 7, 8'; :func:`_grouped_beside`) with a leader line to each of them: every
-        mode keeps its number on the figure."""
+        mode keeps its number on the figure (a long label in its compact form, '14 modes: 11, 21,
+        23 … 111': :func:`_mode_words`)."""
         self.shared = []
         if not indices:
             return

@@ -200,10 +200,15 @@ def point_segment_distance(segment, point) -> float:
 
 def named_modes(words):
     """Mode numbers a Campbell mode label names: 'mode 7' -> [7]; a label shared by curves
-    whose ends crowd, 'modes 3, 7\u20139' -> [3, 7, 8, 9] (an en dash: a range); [] for any
-    other text."""
+    whose ends crowd, 'modes 3, 7\u20139' -> [3, 7, 8, 9] (an en dash: a range); a long shared
+    label in its compact form, '14 modes: 11, 21, 23 \u2026 111' -> [11, 21, 23, 111] (the
+    numbers it writes; an ellipsis: numbers left out, :func:`counted_modes` says how many it
+    names in all); [] for any other text."""
     import re
 
+    compact = re.fullmatch(r"(\d+) modes: (\d+(?:(?:, | \u2026 )\d+)*)", words)
+    if compact:
+        return [int(n) for n in re.split(r", | \u2026 ", compact.group(2))]
     found = re.fullmatch(r"modes? (\d+(?:\u2013\d+)?(?:, \d+(?:\u2013\d+)?)*)", words)
     if not found:
         return []
@@ -212,6 +217,15 @@ def named_modes(words):
         first, _, last = part.partition("\u2013")
         numbers += list(range(int(first), int(last or first) + 1))
     return numbers
+
+
+def counted_modes(words):
+    """How many modes a Campbell mode label names: the count a compact label states ('14 modes:
+    11, 21, 23 \u2026 111' -> 14), else the numbers it writes (:func:`named_modes`)."""
+    import re
+
+    compact = re.fullmatch(r"(\d+) modes: .*", words)
+    return int(compact.group(1)) if compact else len(named_modes(words))
 
 
 def order_curves(ax) -> dict:

@@ -889,14 +889,20 @@ def draw_time_layout(place):
     return artist
 
 
+#: :func:`lay_out_again_when` lays a figure out at most this many more times per layout
+_MOST_LAYOUTS = 3
+
+
 def lay_out_again_when(fig, grown):
     """Have each constrained layout of ``fig`` call ``grown(renderer)`` when done, and lay the
-    figure out once more where it returns True.
+    figure out once more where it returns True (and so on, at most :data:`_MOST_LAYOUTS` more
+    times).
 
     For labels whose words depend on the axes' laid-out size (the Campbell diagram's shared
-    right-edge labels): ``grown`` sets them for the axes as laid out and says whether they now
-    reach farther than the layout left room for; the second layout leaves it. Only on a figure
-    with constrained layout (its engine, and its settings, are kept inside); else nothing.
+    right-edge labels, its legend's count of the critical speeds labelled): ``grown`` sets them
+    for the axes as laid out and says whether they now take more room than the layout left
+    them; the next layout leaves it. Only on a figure with constrained layout (its engine, and
+    its settings, are kept inside); else nothing.
     """
     from matplotlib.layout_engine import ConstrainedLayoutEngine
 
@@ -910,7 +916,9 @@ def lay_out_again_when(fig, grown):
 
         def execute(self, figure):
             inner.execute(figure)
-            if grown(figure._get_renderer()):
+            for _ in range(_MOST_LAYOUTS):
+                if not grown(figure._get_renderer()):
+                    break
                 ConstrainedLayoutEngine.execute(inner, figure)
 
         def set(self, **settings):

@@ -42,6 +42,9 @@ _UNIT_WORDS = {"rpm": "rpm", "rad/s": "rad/s", "hz": "Hz"}
 #: right-edge mode labels stand at most this many label heights from their curves' ends (curves
 #: whose ends crowd share a label where they would stand farther)
 _MOST_SHIFT = 4.0
+#: a right-edge label writing more than this many mode numbers ('modes 3, 7–9' writes three) names
+#: the lowest :data:`_FIRST_NUMBERS` and the highest and counts them all (:func:`_mode_words`)
+_MOST_NUMBERS, _FIRST_NUMBERS = 5, 3
 #: colour of a right-edge label naming curves of different whirl (its leaders have their colours)
 _SHARED_COLOUR = "0.15"
 #: size of a critical speed's circle [points]; circles whose centres lie within each other's
@@ -63,8 +66,10 @@ _ACROSS = (-0.2, 0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0, 1.2)
 
 
 #: a right-edge label reaching nearer the figure's edge than this [pixels] has the figure laid
-#: out again (:meth:`_CampbellLabels._room_beside`)
+#: out again (:meth:`_CampbellLabels._after_layout`)
 _EDGE_PIXELS = 0.5
+#: the keys above the axes keep this many points from the title beside them (:meth:`_CampbellLabels._place_keys`)
+_TITLE_GAP_POINTS = 8.0
 #: the critical-speed note keeps at least this many points off the axes' spines
 _NOTE_MARGIN_POINTS = 4.0
 
@@ -617,18 +622,27 @@ def _draw_operating(ax, operating):
                    gid="operating-range")
 
 
-def _legend_under(fig, ax):
+def _legend_under(fig, ax, critical_words=None):
     """The legend under ``ax``, in as few rows as keep it no wider than the axes.
 
     The axes' width is the one the figure's layout engine (constrained layout) gives it
     without the legend; one row when that fits, else the fewest rows that do (columns of
     equal height: 2 x 2 for four entries), else one column. So panels side by side keep
-    their width and each legend stays under its own axes. Chosen once, when drawn: a
-    resized figure keeps the columns.
+    their width and each legend stays under its own axes. Chosen when drawn first, and again
+    where the critical speeds' entry takes the note's count (``critical_words``, its words:
+    :meth:`_CampbellLabels._after_layout`); a resized figure keeps the columns.
     """
     kwargs = dict(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", frameon=False)
     count = len(ax.get_legend_handles_labels()[1])
-    legend = ax.legend(ncols=max(count, 1), **kwargs)
+
+    def made(columns):
+        legend = ax.legend(ncols=columns, **kwargs)
+        entry = _critical_entry(ax)
+        if critical_words is not None and entry is not None:
+            entry.set_text(critical_words)
+        return legend
+
+    legend = made(max(count, 1))
     if count < 2:
         return legend
     renderer = fig.canvas.get_renderer() if hasattr(fig.canvas, "get_renderer") else fig._get_renderer()
@@ -637,10 +651,18 @@ def _legend_under(fig, ax):
         columns = -(-count // rows)
         if rows > 1 and columns == -(-count // (rows - 1)):
             continue                                           # the same columns as one row fewer
-        legend = ax.legend(ncols=columns, **kwargs)
+        legend = made(columns)
         if columns == 1 or legend.get_window_extent(renderer).width <= width:
             return legend
     return legend
+
+
+def _critical_entry(ax):
+    """The text of the critical speeds' entry in ``ax``'s legend ('critical speed', or with the
+    note's count), or None."""
+    legend = ax.get_legend()
+    return next((t for t in (legend.get_texts() if legend else []) if t.get_text().startswith("critical speed")),
+                None)
 
 
 def _width_without(legend, renderer):
@@ -697,7 +719,7 @@ class _CampbellLabels:
         # the right-edge labels as drawn, for the axes as laid out, before each drawing's layout
         # is final: shared as the first guess above could not know (the 20-rotor chain's
         # 'modes 15, 40, 85, 86' ran off the figure), where the layout leaves them room
-        lay_out_again_when(ax.figure, self._room_beside)
+        lay_out_again_when(ax.figure, self._after_layout)
         self.critical_words = [_speed_text(s) for s in critical[0]]
         self.critical_texts = [self._text(w, gid="critical-label", fontsize="xx-small")
                                for w in self.critical_words] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
@@ -709,6 +731,8 @@ class _CampbellLabels:
             if annotate and len(critical[0]) else None
         self.none_note = None           # the note of a sweep with no critical speed (see plot_campbell)
         self.placed_for = None          # the state the labels were last placed for (:meth:`_drawn_state`)
+        self.shared, self.note_modes = [], set()    # shared right-edge labels and their modes; modes the note lists
+        self.legend_words = "critical speed"     # the legend entry's words its columns were chosen for
         self._own_lines = set(self.leaders + self.critical_leaders + self.key_leaders)
 
     def mark_uncertain(self, uncertain):
@@ -738,23 +762,36 @@ class _CampbellLabels:
                 self.mode_texts[beside[group[0]]].set_text(
                     _mode_words([self.result.modes[self.modes[beside[g]]] for g in group]))
 
-    def _room_beside(self, renderer):
-        """Set the right-edge labels (:meth:`_beside`) for the axes as the figure's layout left
-        them, the labels of curves ending inside the axes hidden till they are placed there;
-        whether a label now reaches farther right than before [pixels] and beyond the figure's
-        edge: the layout left it no room (:func:`._labels.lay_out_again_when`; a label within the
-        figure leaves the layout as it was)."""
+    def _after_layout(self, renderer):
+        """Place every label (:meth:`place`) for the axes as the figure's layout left them;
+        whether the figure is to be laid out again (:func:`._labels.lay_out_again_when`): a
+        right-edge label now reaches farther right than before [pixels] and beyond the figure's
+        edge, or the legend's entry of the critical speeds now carries the note's count
+        (:meth:`_place_note`), longer than the words its columns were chosen for (chosen again
+        for them, :func:`_legend_under`). The drawing that follows a layout left as it was finds
+        the labels placed. The 60-rotor gear chain at 110 dpi wrote the count into the legend
+        after the layout, and its first entry began 208 pixels left of the figure."""
         if self._drawn_state(renderer) == self.placed_for:     # placed so at the last drawing
             return False
-        self.placed_for = None
-        reach = max(self._reach(renderer), self.ax.figure.bbox.x1 - _EDGE_PIXELS)
+        fig = self.ax.figure
+        reach = max(self._reach(renderer), fig.bbox.x1 - _EDGE_PIXELS)
         self._set_scales(renderer)
+        self.placed_for = None
         ends = self._reset_mode_texts()
-        for i, end in enumerate(ends):
+        for i, end in enumerate(ends):      # (curves ending inside the axes: labelled there, by place)
             if end is not None and end[0] == "inside":
                 set_if_changed(self.mode_texts[i], visible=False)
         self._beside(renderer, [i for i, end in enumerate(ends) if end is not None and end[0] == "right"], ends)
-        return self._reach(renderer) > reach
+        if self._reach(renderer) > reach:       # the right-edge labels alone ask for room: the rest waits
+            return True
+        self.place(renderer)
+        again = self._reach(renderer) > reach
+        entry = _critical_entry(self.ax)
+        if entry is not None and len(entry.get_text()) > len(self.legend_words):
+            self.legend_words = entry.get_text()
+            _legend_under(fig, self.ax, self.legend_words)
+            again = True
+        return again
 
     def _reach(self, renderer):
         """The right end [pixels] of the visible mode labels (-inf: none)."""
@@ -792,11 +829,18 @@ class _CampbellLabels:
         self.renderer, self.mode_map = renderer, None
         self.leader_lines = []          # (start, end) of the leader lines drawn inside the axes
         placed = []
+        # the right-edge labels first: the order lines' keys above the axes keep clear of them
+        ends = self._reset_mode_texts()
+        inside = [i for i, end in enumerate(ends) if end is not None and end[0] == "inside"]
+        for i in inside:
+            set_if_changed(self.mode_texts[i], visible=False)
+        self._beside(renderer, [i for i, end in enumerate(ends) if end is not None and end[0] == "right"], ends)
         self._place_orders(renderer, placed)
         markers = self._marker_boxes()
-        self._place_modes(renderer, placed, markers)
+        self._inside(renderer, inside, ends, placed, markers)
         self._place_critical(renderer, placed, markers)
         self._place_note(renderer, placed, markers)
+        self._name_mentioned()
         self._place_none_note(renderer, placed, markers)
         self.placed_for = state
 
@@ -837,11 +881,14 @@ class _CampbellLabels:
         ax, fig = self.ax, self.ax.figure
         frame = ax.get_window_extent(renderer)
         gap = _PAD_POINTS * self.points
-        obstacles = [artist.get_window_extent(renderer) for artist in
-                     [ax.title, ax._left_title, ax._right_title] + ax.get_xticklabels() + ax.get_yticklabels()
+        titles = [ax.title, ax._left_title, ax._right_title]
+        obstacles = [(artist.get_window_extent(renderer), artist in titles) for artist in
+                     titles + ax.get_xticklabels() + ax.get_yticklabels()
                      + [t for t in self.mode_texts if t.get_visible()]
                      if artist.get_visible() and artist.get_text()]
-        obstacles = [(b.x0, b.y0, b.x1, b.y1) for b in obstacles]
+        # a title keeps a word's space from the keys beside it (2 points read as one line of text)
+        wider = (_TITLE_GAP_POINTS - _PAD_POINTS) * self.points
+        obstacles = [(b.x0 - wider * title, b.y0, b.x1 + wider * title, b.y1) for b, title in obstacles]
         bottom = frame.y1 + 2 * gap
         shown = 0
         right_of = max(frame.x0, fig.bbox.x0 + gap)
@@ -879,13 +926,6 @@ class _CampbellLabels:
             set_if_changed(leader, visible=False)
 
     # -- modes ---------------------------------------------------------------------------
-    def _place_modes(self, renderer, placed, markers):
-        ends = self._reset_mode_texts()
-        beside = [i for i, end in enumerate(ends) if end is not None and end[0] == "right"]
-        inside = [i for i, end in enumerate(ends) if end is not None and end[0] == "inside"]
-        self._beside(renderer, beside, ends)
-        self._inside(renderer, inside, ends, placed, markers)
-
     def _reset_mode_texts(self):
         """Each mode label's own words again (a label shared at the last drawing), the labels and
         leaders of curves not in view hidden; the curves' ends (:meth:`_visible_end`)."""
@@ -929,7 +969,9 @@ class _CampbellLabels:
         leader line. Where the labels would not fit the axes' height, or would stand more than
         :data:`_MOST_SHIFT` label heights from their curves, curves whose ends lie close share one
         label ('modes 7, 8'; :func:`_grouped_beside`) with a leader line to each of them: every
-        mode keeps its number on the figure."""
+        mode keeps its number on the figure (a long label in its compact form, '14 modes: 11, 21,
+        23 … 111': :func:`_mode_words`)."""
+        self.shared = []
         if not indices:
             return
         height = max(self._size(self.mode_texts[i].get_text(), _FONT, renderer)[1] for i in indices) * self.to_v
@@ -944,8 +986,10 @@ class _CampbellLabels:
                 set_if_changed(self.leaders[i], xdata=[1.0, 1.0 + stub, 1.0 + leader],
                                ydata=[ends[i][1], ends[i][1], centre], color=colour, visible=True)
                 set_if_changed(self.mode_texts[i], visible=False)
-            words = _mode_words([self.result.modes[self.modes[i]] for i in members])
-            set_if_changed(self.mode_texts[members[0]], text=words, position=(1.0 + leader + pad, centre),
+            numbers = [self.result.modes[self.modes[i]] for i in members]
+            if len(numbers) > 1:
+                self.shared.append((self.mode_texts[members[0]], numbers))
+            set_if_changed(self.mode_texts[members[0]], text=_mode_words(numbers), position=(1.0 + leader + pad, centre),
                            va="center", ha="left", color=colours[0] if len(set(colours)) == 1 else _SHARED_COLOUR,
                            visible=True, clip_on=False)
 
@@ -1227,8 +1271,10 @@ class _CampbellLabels:
 
     def _in_view(self):
         """Indices of the critical speeds whose markers lie inside the axes."""
-        return [k for k, point in enumerate(zip(*self.critical))
-                if all(0 <= c <= 1 for c in self.to_axes(point))]
+        if not len(self.critical[0]):
+            return []
+        points = self.to_axes(np.column_stack(self.critical))
+        return np.flatnonzero(np.all((points >= 0) & (points <= 1), axis=1)).tolist()
 
     def _unlabelled_critical(self):
         """Indices of the critical speeds inside the axes whose speed no visible label reads."""
@@ -1258,12 +1304,11 @@ class _CampbellLabels:
         are labelled and listing the others by mode ('mode 3: 177, 257'); with no room for
         the list, the count only; with no room for that, the count in the legend."""
         note = self.critical_note
+        self.note_modes = set()
         if note is None:
             return
         left = self._unlabelled_critical()
-        legend = self.ax.get_legend()
-        entry = next((t for t in (legend.get_texts() if legend else [])
-                      if t.get_text().startswith("critical speed")), None)
+        entry = _critical_entry(self.ax)
         if entry is not None:
             set_if_changed(entry, text="critical speed")
         if not left:
@@ -1273,7 +1318,8 @@ class _CampbellLabels:
         margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
         frame = (margin_u, margin_v, 1 - margin_u, 1 - margin_v)
         gap = (_PAD_POINTS * self.points * self.to_u, _PAD_POINTS * self.points * self.to_v)
-        for words in self._note_texts(left):
+        texts = self._note_texts(left)
+        for n, words in enumerate(texts):
             w, h = self._size(words, "xx-small", renderer)
             w, h = w * self.to_u, h * self.to_v
             lefts, bottoms = np.arange(frame[0], frame[2] - w, 0.02), np.arange(frame[1], frame[3] - h, 0.02)
@@ -1289,10 +1335,23 @@ class _CampbellLabels:
             if box is not None:
                 set_if_changed(note, text=words, position=(box[0], box[1]), va="bottom", ha="left",
                                clip_on=True, visible=True)
+                if n < len(texts) - 1:          # the list by mode (the last wording is the count alone)
+                    self.note_modes = {int(self.critical_modes[k]) for k in left}
                 return
         set_if_changed(note, visible=False)
-        if entry is not None:
-            set_if_changed(entry, text=f"critical speed ({self._note_texts(left)[-1]})")
+        if entry is not None:           # on two lines: one as long as the note's reached past a small figure
+            total = len(self._in_view())
+            set_if_changed(entry, text=f"critical speed ({total - len(left)} of {total} labelled,\n"
+                                       "all in the critical-speeds table)")
+
+    def _name_mentioned(self):
+        """The compact right-edge labels (:func:`_mode_words`) that leave out a mode the note
+        lists (:meth:`_place_note`) name it too: every mode number the figure writes is found
+        at its curve's end."""
+        for text, numbers in self.shared:
+            mentioned = self.note_modes.intersection(int(n) for n in numbers)
+            if mentioned:
+                set_if_changed(text, text=_mode_words(numbers, mentioned))
 
     def _place_none_note(self, renderer, placed, markers):
         """Where the sweep has no critical speed (no order line crosses a mode): the note
@@ -1377,9 +1436,14 @@ def _grouped_beside(targets, height, gap):
         groups[j:j + 2] = [groups[j] + groups[j + 1]]
 
 
-def _mode_words(numbers):
+def _mode_words(numbers, mentioned=()):
     """A right-edge label's words: 'mode 7', 'modes 7, 8', 'modes 3, 7–9' (three or more
-    consecutive numbers as a range, with an en dash)."""
+    consecutive numbers as a range, with an en dash); a label that would write more than
+    :data:`_MOST_NUMBERS` numbers so, in a compact form that counts its modes and names the
+    lowest :data:`_FIRST_NUMBERS`, the highest and those of ``mentioned`` among them, an
+    ellipsis where numbers are left out: '14 modes: 11, 21, 23 … 111', '14 modes: 11, 21, 23 …
+    57 … 111' (mode 57 named by the figure's note). The 60-rotor gear chain's label of 14 modes
+    was 356 pixels wide at 110 dpi and squeezed the axes to half the figure."""
     numbers = sorted(int(n) for n in numbers)
     if len(numbers) == 1:
         return f"mode {numbers[0]}"
@@ -1389,8 +1453,15 @@ def _mode_words(numbers):
             runs[-1].append(n)
         else:
             runs.append([n])
-    parts = [f"{r[0]}\u2013{r[-1]}" if len(r) >= 3 else ", ".join(map(str, r)) for r in runs]
-    return "modes " + ", ".join(parts)
+    if sum(2 if len(r) >= 3 else len(r) for r in runs) <= _MOST_NUMBERS:
+        parts = [f"{r[0]}\u2013{r[-1]}" if len(r) >= 3 else ", ".join(map(str, r)) for r in runs]
+        return "modes " + ", ".join(parts)
+    shown = set(numbers[:_FIRST_NUMBERS]) | {numbers[-1]} | {int(n) for n in mentioned}
+    words = ""
+    for k, n in enumerate(numbers):
+        if n in shown:
+            words += ("" if not words else ", " if numbers[k - 1] in shown else " \u2026 ") + str(n)
+    return f"{len(numbers)} modes: {words}"
 
 
 def _unnamed(exits, taken):

@@ -59,7 +59,7 @@ def _start(out):
     lines = []
     for line in process.stderr:       # the compile notice (empty numba cache) may come first
         lines.append(line.strip())
-        if line.strip() == "PART":
+        if "PART" in line:            # two threads' notices can share a line ("PARTPART")
             return process, lines
     process.wait()
     pytest.fail(f"the sweep ended without a part in the pool (exit {process.returncode}): {lines}")

@@ -1286,23 +1286,14 @@ def _gathered_sums(values, parts):
     (Dekker's splitting, :func:`._lowest_newton._halves`) and summed in pairs with their rounding
     errors kept (``TwoSum`` in a tree, the errors added at the end), as
     :func:`._lowest_newton._exact_sums` sums a dense matrix's rows."""
-    from ._lowest_newton import _halves
+    from ._lowest_newton import _halves, tree_sum
 
     a_hi, a_lo = _halves(values[:, :, None])
     b_hi, b_lo = _halves(parts)
     p = values[:, :, None] * parts
     e = ((a_hi * b_hi - p) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo
     terms = np.concatenate([p, e], axis=1)                  # (r, 2w, c)
-    errors = []
-    while terms.shape[1] > 1:
-        if terms.shape[1] % 2:
-            terms = np.concatenate([terms, np.zeros_like(terms[:, :1])], axis=1)
-        a, b = terms[:, 0::2], terms[:, 1::2]
-        total = a + b
-        virtual = total - a
-        errors.append((a - (total - virtual)) + (b - virtual))
-        terms = total
-    return terms[:, 0] + np.concatenate(errors, axis=1).sum(axis=1)
+    return tree_sum(terms)
 
 
 def _parallel(x, y) -> bool:

@@ -641,6 +641,12 @@ def _row_sums(A, parts):
     e = ((a_hi[:, :, None] * b_hi[None] - p) + a_hi[:, :, None] * b_lo[None] + a_lo[:, :, None] * b_hi[None]) \
         + a_lo[:, :, None] * b_lo[None]
     terms = np.concatenate([p, e], axis=1)                  # (r, 2n, 2k)
+    return tree_sum(terms)
+
+
+def tree_sum(terms):
+    """Sums over axis 1 of ``terms`` (r, t, c), shape (r, c): pairwise ``TwoSum`` in a tree with
+    the rounding errors kept and added at the end."""
     errors = []
     while terms.shape[1] > 1:
         if terms.shape[1] % 2:

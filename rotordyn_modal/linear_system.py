@@ -147,10 +147,11 @@ def implausible(model, units: str = "si") -> list[str]:
         except (np.linalg.LinAlgError, ValueError):
             pass
     # one sag line for one mistake: the machine's on its suspensions already names the units
-    if model.bearings and np.any(model.gravity) and not sag and model.dofs.n <= SAG_CHECK_DOF:
+    if model.bearings and not sag and model.dofs.n <= SAG_CHECK_DOF:
         try:       # small dense work: one BLAS thread (a busy machine's many threads took 0.3 s for 68x68)
             with np.errstate(all="ignore"), one_blas_thread(72 * model.dofs.n ** 2):
-                lines += _bearing_sag_lines(model, units)
+                held = _bearing_sag_lines(model, units) if np.any(model.gravity) else []
+                lines += held or _low_rotor_mode_lines(model)
         except (np.linalg.LinAlgError, ValueError):
             pass
     for b in model.bearings:
@@ -159,8 +160,8 @@ def implausible(model, units: str = "si") -> list[str]:
             lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
-    return lines + _merge_lines(model) + _material_lines(model) + _clearance_lines(model) \
-        + _spread_lines(model)
+    return lines + _circulatory_mount_lines(model) + _slow_maxwell_lines(model) + _merge_lines(model) \
+        + _material_lines(model) + _clearance_lines(model) + _spread_lines(model)
 
 
 def _spread_lines(model) -> list[str]:
@@ -325,20 +326,153 @@ def static_solution(stiffness: np.ndarray, load: np.ndarray):
     return x
 
 
-def _low_mode_lines(model) -> list[str]:
-    """The warning about a mode of the rigid machine on its suspensions below
-    :data:`LOWEST_MOUNT_FREQUENCY`, or none."""
+def _mount_frequencies(model) -> np.ndarray:
+    """The natural frequencies [Hz] of the rigid machine on its suspensions' static
+    ``stiffness``, unrestrained directions (frequency zero) left out; shape (k,), k <= 6."""
     mass, stiffness, _ = _on_suspensions(model)
     roots = np.linalg.eigvals(np.linalg.solve(mass, stiffness))
     scale = np.abs(roots).max(initial=0.0)
     held = roots[roots.real > 1e-9 * scale]                 # unrestrained directions are not modes
-    if not held.size:
+    return np.sqrt(np.abs(held)) / (2 * np.pi)
+
+
+def _low_mode_lines(model) -> list[str]:
+    """The warning about a mode of the rigid machine on its suspensions below
+    :data:`LOWEST_MOUNT_FREQUENCY`, or none."""
+    frequencies = _mount_frequencies(model)
+    if not frequencies.size:
         return []
-    lowest = float(np.sqrt(np.abs(held)).min() / (2 * np.pi))
+    lowest = float(frequencies.min())
     if not lowest < LOWEST_MOUNT_FREQUENCY:
         return []
     return [f"{model.source}: the machine's lowest mode on its suspensions is at {lowest:.3g} Hz, below "
             f"{LOWEST_MOUNT_FREQUENCY:g} Hz (a stiffness in N/mm given as N/m, or a mass in g given as kg, puts modes 32 times too low)"]
+
+
+def _low_rotor_mode_lines(model) -> list[str]:
+    """The warning about a mode of the rotors in their bearings below
+    :data:`LOWEST_MOUNT_FREQUENCY`, or none: the undamped modes at rest of the constant supports
+    with the stator held (its own modes on the suspensions are :func:`_low_mode_lines`'), of
+    the symmetric part of the stiffness. A model with speed-dependent bearings (journal
+    bearings, speed tables), whose stiffness at rest is not its running one, is left out.
+    Directions nothing holds (frequency zero to round-off) are not counted."""
+    import scipy.linalg
+
+    if any(b.coefficients.kind != "constant" for b in model.bearings):
+        return []
+    first = model.dofs.n_frame
+    stiffness, _ = constant_stiffness_damping(model)
+    stiffness = stiffness[first:, first:]
+    mass = mass_matrix(model)[first:, first:]
+    if not stiffness.size:
+        return []
+    # rows and columns to one size first (N/m beside N m/rad), as static_solution does
+    size = np.sqrt(np.abs(np.diag(mass)))
+    size[size == 0] = 1.0
+    scaled_k = 0.5 * (stiffness + stiffness.T) / np.outer(size, size)
+    values, vectors = scipy.linalg.eigh(scaled_k, mass / np.outer(size, size))
+    scale = np.abs(values).max(initial=0.0)
+    held = np.flatnonzero(values > 1e-12 * scale)           # unrestrained directions are not modes
+    if not held.size:
+        return []
+    k = held[0]
+    lowest = float(np.sqrt(values[k]) / (2 * np.pi))
+    if not lowest < LOWEST_MOUNT_FREQUENCY:
+        return []
+    shape = vectors[:, k] / size
+    energy = shape * (mass @ shape)
+    rotor = _coordinate_rotor(model, first + int(np.argmax(np.abs(energy))))
+    held_by = [f"[bearings.{visible(b.name)}]" for b in model.bearings if b.rotor == rotor]
+    return [f"{model.source}: rotor {visible(rotor)!r} has a mode at {lowest:.3g} Hz in its bearings "
+            f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; at rest, the stator held), below "
+            f"{LOWEST_MOUNT_FREQUENCY:g} Hz, where bearings hold a rotor far stiffer: a stiffness in N/mm given as "
+            "N/m, or a mass in g given as kg, puts modes 32 times too low"]
+
+
+def _coordinate_rotor(model, index: int) -> str:
+    """The rotor whose coordinates (or whose bearing's pedestal) hold coordinate ``index``."""
+    dofs = model.dofs
+    for name, rows in zip(dofs.rotors, dofs.slices):
+        if rows.start <= index < rows.stop:
+            return name
+    for bearing, rows in dofs.pedestals:
+        if rows.start <= index < rows.stop:
+            return next(b.rotor for b in model.bearings if b.name == bearing)
+    return dofs.rotors[0]
+
+
+#: the largest ``maxwell_time`` x the lowest mount mode's angular frequency that draws no warning:
+#: beyond it the branch dissipates at most 1 % of its stiffness at the machine's modes (its loss
+#: ``k_b w tau / (1 + (w tau)^2)`` peaks at ``w tau = 1``) and is a plain spring there
+SLOW_MAXWELL = 100.0
+
+
+def _slow_maxwell_lines(model) -> list[str]:
+    """A line for the slowest Maxwell branch whose relaxation time ``tau`` is more than
+    :data:`SLOW_MAXWELL` / ``w_low`` (``w_low`` the lowest mode of the rigid machine on its
+    suspensions' static stiffness, rad/s): a time in ms typed for s (20 for 0.02) relaxes a
+    thousand times too slowly and damps nothing at the modes. One line for the model."""
+    timed = [(tau, s, i) for s in model.suspensions for i, tau in enumerate(s.maxwell_time or ())]
+    if not timed:
+        return []
+    try:
+        with np.errstate(all="ignore"):
+            frequencies = _mount_frequencies(model)
+    except (np.linalg.LinAlgError, ValueError):
+        return []
+    if not frequencies.size:
+        return []
+    lowest = float(frequencies.min())
+    tau, mount, i = max(timed, key=lambda t: t[0])
+    if not 2 * np.pi * lowest * tau > SLOW_MAXWELL:
+        return []
+    slow = sum(1 for t, _, _ in timed if 2 * np.pi * lowest * t > SLOW_MAXWELL)
+    others = f" (and {slow - 1} more branch{'es' if slow > 2 else ''})" if slow > 1 else ""
+    return [f"{model.source}: [suspensions.{visible(mount.name)}] maxwell_time[{i}] = {tau:g}{others}: the branch "
+            f"relaxes at 1/(2 pi tau) = {1 / (2 * np.pi * tau):.3g} Hz, {2 * np.pi * lowest * tau:.4g} times below the "
+            f"machine's lowest mode on its mounts ({lowest:.3g} Hz; beyond {SLOW_MAXWELL:g} times it damps nothing "
+            "there and acts as a plain spring): a relaxation time in ms typed for s? (model files are SI: 0.02 for 20 ms)"]
+
+
+def _circulatory_mount_lines(model) -> list[str]:
+    """A line for each suspension whose ``stiffness``, ``damping`` or Maxwell branch is a matrix
+    typed as one triangle (every entry on one side of the diagonal zero, some on the other not):
+    a passive mount's matrices are symmetric, and the model takes the antisymmetric half such a
+    matrix has as a cross-coupled (circulatory) support (docs/model-file.md), which can make the
+    machine unstable. A matrix with both halves given (``[[k, q], [-q, k]]``, a cross-coupled
+    support on purpose) draws no line."""
+    lines = []
+    for mount in model.suspensions:
+        given = [("stiffness", mount.stiffness), ("damping", mount.damping)]
+        given += [(f"maxwell_stiffness[{b}]", branch) for b, branch in enumerate(mount.maxwell_stiffness or ())]
+        for key, value in given:
+            found = _one_triangle(value)
+            if found is None:
+                continue
+            i, j, a = found
+            lines.append(f"{model.source}: [suspensions.{visible(mount.name)}] {key}[{i}][{j}] = {a:g} but "
+                         f"{key}[{j}][{i}] = 0, and so for every pair: a matrix typed as one triangle? A passive "
+                         "mount's matrix is symmetric (give both halves); as given, half of it is taken as an "
+                         "antisymmetric (circulatory) part, a cross-coupled support (docs/model-file.md) that can "
+                         "make the machine unstable")
+    return lines
+
+
+def _one_triangle(value):
+    """``(i, j, value[i][j])`` of the largest entry of a square matrix whose entries on one side
+    of the diagonal are all zero and on the other not, or None (a list, a full matrix, none given)."""
+    try:
+        matrix = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return None
+    if matrix.ndim != 2 or matrix.shape[0] != matrix.shape[1] or matrix.shape[0] < 2:
+        return None
+    upper, lower = np.triu(matrix, 1), np.tril(matrix, -1)
+    if np.any(upper) == np.any(lower):
+        return None
+    half = upper if np.any(upper) else lower
+    i, j = np.unravel_index(int(np.argmax(np.abs(half))), half.shape)
+    return int(i), int(j), float(matrix[i, j])
 
 
 class SpeedLinearForm:

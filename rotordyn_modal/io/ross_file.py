@@ -38,6 +38,18 @@ _REFUSED = {
                               "give its equivalent coefficients as a BearingElement",
 }
 _RAD_S_TO_RPM = 30.0 / math.pi
+#: the keys ROSS (0.4 to 3.1) saves in each element's table: its ``__init__`` arguments
+#: (``Element.save``); a bearing's table also holds what a subclass saved under
+#: ``BearingElement_<tag>`` keeps (``BearingElement.save``), so only its near misses are refused
+_SHAFT_KEYS = ("L", "idl", "odl", "idr", "odr", "material", "n", "axial_force", "torque", "shear_effects",
+               "rotary_inertia", "gyroscopic", "shear_method_calc", "tag", "alpha", "beta", "color")
+_DISK_KEYS = ("n", "m", "Id", "Ip", "tag", "scale_factor", "color")
+_MATERIAL_KEYS = ("name", "rho", "E", "G_s", "Poisson", "specific_heat", "thermal_conductivity", "color")
+_BEARING_KEYS = ("n", *_COEFFICIENTS, *_MASS_COEFFICIENTS, "speed", "frequency", "tag", "n_link", "scale_factor",
+                 "color", "interpolation", "radial_clearance", "seal_leakage", "n_balls", "d_balls", "n_rollers",
+                 "l_rollers", "fs", "alpha")
+#: the ROSS versions whose saves this reader was checked on (oldest, newest), as (major, minor)
+ROSS_VERSIONS = ((0, 4), (3, 1))
 #: what ``import-ross`` reads, said when a file is something else
 ROSS_SAVE = ("a rotor saved by ROSS's Rotor.save('NAME.toml'): one TOML file of tables 'ShaftElement_<tag>', "
              "'DiskElement_<tag>', 'BearingElement_<tag>', ... as ROSS 0.4 to 3.1 write it (docs/ross.md)")
@@ -87,6 +99,8 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
     source = str(path)
     data = _read_ross_data(path)
     elements = _elements(source, data)
+    _check_element_keys(source, elements)
+    _warn_version(source, data.get("ross_version"))
     _check_parameters(source, data)
     named = not without_name(source)
     rotor_name = name or (shown_text(Path(source).stem) if named else DEFAULT_NAME)
@@ -273,6 +287,57 @@ def _elements(source: str, data: dict) -> dict[str, list]:
                              "DiskElement, " + ", ".join(BEARING_CLASSES))
         grouped.setdefault(cls, []).append((key, table))
     return grouped
+
+
+def _check_element_keys(source: str, elements: dict) -> None:
+    """Refuse a key that is a near miss of one ROSS saves and the table lacks (``odll`` for
+    ``odl``, ``kyyy`` for ``kyy``: read, the element would take ROSS's default or be refused as
+    missing the key); say in one warning line which other keys of shaft, disk and material
+    tables are not read (bearing tables hold what ROSS's bearing subclasses save)."""
+    from ..model._table import unknown_key
+
+    unread = []
+    for cls, tables in elements.items():
+        for key, table in tables:
+            known = _BEARING_KEYS if cls in BEARING_CLASSES else _SHAFT_KEYS if cls == "ShaftElement" else _DISK_KEYS
+            places = [(f"[{key}]", table, known)]
+            if cls == "ShaftElement" and isinstance(table.get("material"), dict):
+                places.append((f"[{key}.material]", table["material"], _MATERIAL_KEYS))
+            for where, keys, allowed in places:
+                for name in keys:
+                    if name in allowed:
+                        continue
+                    absent = [a for a in allowed if a not in keys]
+                    said = unknown_key(name, absent)
+                    if "did you mean" in said:
+                        raise ModelError(source, f"{where} {shown_text(str(name))}", keys[name],
+                                         "one of the keys ROSS saves in a " + cls + said)
+                    if cls not in BEARING_CLASSES:
+                        unread.append(f"{where} {shown_text(str(name))}")
+    if unread:
+        warnings.warn(f"{shown_text(source)}: {len(unread)} key{'s' if len(unread) > 1 else ''} that ROSS does not "
+                      f"save, not read: {', '.join(unread[:3])}{', ...' if len(unread) > 3 else ''} (docs/ross.md, "
+                      "'What is read')", ModelWarning, stacklevel=3)
+
+
+def _warn_version(source: str, version) -> None:
+    """One warning line for a ``ross_version`` newer than :data:`ROSS_VERSIONS`' newest (its
+    saves may hold what this reader does not know), or that is no version number."""
+    import re
+
+    if version is None:
+        return
+    (old_major, old_minor), (major, minor) = ROSS_VERSIONS
+    tested = f"ROSS {old_major}.{old_minor} to {major}.{minor}"
+    found = re.match(r"\s*(\d+)\.(\d+)", version) if isinstance(version, str) else None
+    if found is None:
+        warnings.warn(f"{shown_text(source)}: ross_version = {version!r}: no version number (e.g. '3.1.0'); "
+                      f"read as a save of {tested}, the versions this reader was checked on (docs/ross.md)",
+                      ModelWarning, stacklevel=3)
+    elif (int(found[1]), int(found[2])) > (major, minor):
+        warnings.warn(f"{shown_text(source)}: ross_version = {version!r}: newer than the ROSS versions this reader "
+                      f"was checked on ({tested}); read as their saves are: compare its totals and modes with "
+                      "ROSS's (docs/ross.md)", ModelWarning, stacklevel=3)
 
 
 def _check_parameters(source: str, data: dict) -> None:

@@ -518,7 +518,17 @@ def _not_wide_text(head: bytes, path) -> None:
 
 
 def _check_complete(path):
-    """Refuse a truncated or padded ASCII file: datasets sit between pairs of ``-1`` lines."""
+    """Refuse a truncated or padded ASCII file: datasets sit between pairs of ``-1`` lines. A file
+    whose last dataset is cut short (no ``-1`` closes it) after at least one complete dataset
+    draws one warning line naming that dataset and its first line, and the complete ones are
+    read, as a test-lab export cut in its last dataset is still worth reading.
+
+    Returns
+    -------
+    int or None
+        The count of the file's lines that hold its complete datasets when the last one is cut
+        short (read those: :func:`_pyuff_read`'s ``lines``), else None (read the whole file).
+    """
     from .limits import check_size, refuse_compressed, refuse_unsized, unreadable
 
     check_size(path, "measured", "measured-data file")
@@ -541,10 +551,27 @@ def _check_complete(path):
         lines = handle.read().removeprefix(_BOM_LATIN1).splitlines()
     marks = [k for k, line in enumerate(lines) if line.strip() == "-1" and line.startswith("    -1")]
     tail = [line for line in lines[(marks[-1] + 1 if marks else 0):] if line.strip()]
+    if len(marks) % 2 and len(marks) > 1:
+        _warn_cut_short(path, lines, marks)
+        return marks[-2] + 1
     if len(marks) % 2 or tail:
         line = (marks[-1] + 2) if marks else 1
         raise InputError(f"{path}: incomplete Universal File: a dataset is not closed by a '    -1' line "
                          f"(from line {line}): the file is truncated or has trailing text")
+
+
+def _warn_cut_short(path, lines, marks) -> None:
+    """The warning about a file's last dataset, opened at line ``marks[-1] + 1`` and closed by
+    no ``-1`` line (``lines`` the file's, ``marks`` the places of its ``-1`` lines)."""
+    import warnings
+
+    complete = (len(marks) - 1) // 2
+    number = lines[marks[-1] + 1].strip() if marks[-1] + 1 < len(lines) else ""
+    kind = f"dataset {number}" if number else "a dataset"
+    warnings.warn(f"{path}: dataset {complete + 1} ({kind} from line {marks[-1] + 1}) is cut short: no '    -1' "
+                  f"line closes it (the file ends at line {len(lines)}); left out, the "
+                  f"{'complete dataset' if complete == 1 else f'{complete} complete datasets'} before it read",
+                  stacklevel=4)
 
 
 class NoFunctionData(InputError):
@@ -558,8 +585,8 @@ class NoFunctionData(InputError):
 
 def _read_sets(path):
     """``(sets, units)``: the file's datasets 58 and its units (dataset 164), in one read."""
-    _check_complete(path)
-    uff, types, index, sets = _pyuff_read(path, (58, 164))
+    complete = _check_complete(path)
+    uff, types, index, sets = _pyuff_read(path, (58, 164), complete)
     if 58 not in types:
         modes = " (mode shapes: modes --measured, rdm.read_uff_modes)" if 55 in types else ""
         raise NoFunctionData(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
@@ -574,9 +601,11 @@ def _read_sets(path):
     return frfs, units
 
 
-def _pyuff_read(path, kinds=None):
+def _pyuff_read(path, kinds=None, lines=None):
     """``(uff, types, index, sets)``: the file's datasets as pyuff reads them, every one or those
-    whose dataset number is one of ``kinds`` (their places ``index``, from 0).
+    whose dataset number is one of ``kinds`` (their places ``index``, from 0); of the file's first
+    ``lines`` lines only when given (its complete datasets, :func:`_check_complete`), read from
+    a copy of them in a temporary folder.
 
     pyuff refuses an ASCII file whose lines end in blanks where it reads fixed-width numbers (the
     last, short line of a double-precision dataset 58 padded to 80 columns, as Fortran writers and
@@ -597,6 +626,14 @@ def _pyuff_read(path, kinds=None):
             sets = uff.read_sets(index) if index else []
         return uff, types, index, [sets] if isinstance(sets, dict) else list(sets)
 
+    if lines is not None:
+        with tempfile.TemporaryDirectory() as folder:
+            copy = Path(folder) / "complete.uff"
+            copy.write_bytes(_first_lines(path, lines))
+            try:
+                return _pyuff_read(copy, kinds)
+            except InputError as error:   # named as the file given, not the copy
+                raise InputError(str(error).replace(str(copy), str(path), 1)) from None
     try:
         return read(str(path))
     except Exception as error:  # pyuff raises many kinds on a broken file
@@ -610,7 +647,71 @@ def _pyuff_read(path, kinds=None):
                 return read(str(copy))
             except Exception:   # the blanks were not the trouble: the first error is the file's
                 pass
+            found = _read_each(str(copy), kinds, path)
+    else:
+        found = _read_each(str(path), kinds, path)
+    if found is not None:
+        return found
     raise InputError(f"{path}: not a readable Universal File ({type(first).__name__}: {first})") from None
+
+
+NEWLINE = b"\n"
+
+
+def _read_each(name, kinds, path):
+    """``(uff, types, index, sets)`` of :func:`_pyuff_read` read one dataset at a time, after pyuff
+    failed on them together: the datasets 58 pyuff cannot read (one cut short inside its header,
+    then closed by ``-1``) are left out with one warning line naming the first, its place and its
+    first line; another dataset that cannot be read (units, geometry) is refused so. None when
+    pyuff cannot even list the datasets, or every one reads alone."""
+    import warnings
+
+    import pyuff
+
+    try:
+        uff = pyuff.UFF(name)
+        types = [int(t) for t in uff.get_set_types()]
+    except Exception:   # noqa: BLE001 - the file's first error is said
+        return None
+    index, sets, failed = [], [], []
+    for i, kind in enumerate(types):
+        if kinds is not None and kind not in kinds:
+            continue
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):
+                sets.append(uff.read_sets(i))
+            index.append(i)
+        except Exception as error:   # noqa: BLE001 - pyuff raises many kinds on a broken set
+            failed.append((i, error))
+    if not failed:
+        return None
+    i, error = failed[0]
+    try:
+        with open(name, "rb") as handle:
+            before = handle.read(int(uff._block_ind[i][0]))
+        line = f" from line {before.count(NEWLINE) + 1}"
+    except (AttributeError, IndexError, TypeError, ValueError, OSError):   # pyuff's own bookkeeping
+        line = ""
+    where = f"dataset {i + 1} (dataset {types[i]}{line})"
+    why = f"{type(error).__name__}: {error}"
+    if not index or any(types[k] != 58 for k, _ in failed):
+        raise InputError(f"{path}: not a readable Universal File: {where} cannot be read ({why}): cut short "
+                         "or damaged")
+    more = f" (and {len(failed) - 1} more dataset{'s' if len(failed) > 2 else ''} 58)" if len(failed) > 1 else ""
+    warnings.warn(f"{path}: {where}{more} cannot be read ({why}): cut short or damaged; left out, the "
+                  f"{len(index)} other dataset{'s' if len(index) > 1 else ''} read", stacklevel=5)
+    return uff, types, index, sets
+
+
+def _first_lines(path, count: int) -> bytes:
+    """The bytes of the first ``count`` lines of ``path`` (lines as :func:`_check_complete` counts
+    them: of its Latin-1 text, a leading byte-order mark passed over), each with its line end."""
+    with open(path, "rb") as handle:
+        data = handle.read()
+    text = data.decode("latin-1")
+    mark = len(_BOM_LATIN1) if text.startswith(_BOM_LATIN1) else 0
+    kept = text[mark:].splitlines(keepends=True)[:count]
+    return data[:mark + sum(len(line) for line in kept)]
 
 
 def _without_trailing_blanks(path):
@@ -910,8 +1011,7 @@ def read_uff_info(path) -> dict:
 
 
 def _all_sets(path):
-    _check_complete(path)
-    uff, types, _, sets = _pyuff_read(path)
+    uff, types, _, sets = _pyuff_read(path, lines=_check_complete(path))
     for number, (s, t) in enumerate(zip(sets, types)):
         s.setdefault("type", t)
         if t == 58:

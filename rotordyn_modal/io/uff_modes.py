@@ -103,10 +103,10 @@ def read_uff_modes(path, model, mapping=None):
     from .uff import _check_complete
 
     path = input_path(path, "path")
-    _check_complete(path)
+    complete = _check_complete(path)
     channels = mapping if isinstance(mapping, ChannelMap) else (
         read_mapping(mapping, model) if mapping is not None else default_mapping(model))
-    blocks = _blocks(path, (55, 2414))
+    blocks = _blocks(path, (55, 2414), complete)
     sets = [_mode(block, start, path) for block, start in blocks[55]]
     read_2414 = [_result_2414(block, start, path) for block, start in blocks[2414]]
     modes_2414 = [r for r in read_2414 if "nodes" in r]
@@ -140,13 +140,14 @@ def _holds(path) -> str:
     return f"datasets found: {_datasets_named(types)}{hint}"
 
 
-def _blocks(path, numbers=(55,)) -> dict:
+def _blocks(path, numbers=(55,), complete=None) -> dict:
     """The blocks of each dataset number of ``numbers``, the file read once: number -> list of
     ``(lines, first_line_number)`` (the lines after its number line up to its closing ``-1``); a
-    58b set's binary bytes elsewhere in the file are passed over."""
+    58b set's binary bytes elsewhere in the file are passed over. ``complete``: read the file's
+    first lines only, its complete datasets (``uff._check_complete``)."""
     with open(path, "rb") as handle:
         text = handle.read().decode("latin-1").removeprefix("\xef\xbb\xbf")
-    lines = text.splitlines()
+    lines = text.splitlines()[:complete]
     return {number: list(_scan(lines, number)) for number in numbers}
 
 

@@ -94,7 +94,15 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
     ModelError
         The file is not a ROSS rotor, or holds what this package does not model (named:
         the element, the key, the value and why), e.g. proportional damping, bearing mass
-        coefficients, a point mass, a magnetic bearing, mixed shear options.
+        coefficients, a point mass, a magnetic bearing, mixed shear options; a key that is a
+        near miss of one ROSS saves and the table lacks (``odll``: "did you mean 'odl'?").
+
+    Warns
+    -----
+    ModelWarning
+        A ``ross_version`` newer than :data:`ROSS_VERSIONS` (or no version number); keys of
+        shaft, disk and material tables that ROSS does not save (not read); coefficient tables
+        that ROSS interpolates otherwise.
     """
     source = str(path)
     data = _read_ross_data(path)
@@ -329,7 +337,7 @@ def _warn_version(source: str, version) -> None:
         return
     (old_major, old_minor), (major, minor) = ROSS_VERSIONS
     tested = f"ROSS {old_major}.{old_minor} to {major}.{minor}"
-    found = re.match(r"\s*(\d+)\.(\d+)", version) if isinstance(version, str) else None
+    found = re.match(r"\s*v?(\d+)\.(\d+)", version) if isinstance(version, str) else None
     if found is None:
         warnings.warn(f"{shown_text(source)}: ross_version = {version!r}: no version number (e.g. '3.1.0'); "
                       f"read as a save of {tested}, the versions this reader was checked on (docs/ross.md)",

@@ -130,6 +130,7 @@ def _ross(tmp_path, old, new, name="r.toml") -> Path:
     ("\nodl = ", "\nodll = ", "odll", "odl"),
     ("\nkyy = ", "\nkyyy = ", "kyyy", "kyy"),       # read, ROSS's default kyy = kxx: 1e6 for 8e5 N/m
     ("\nIp = ", "\nIpp = ", "Ipp", "Ip"),           # refused as "Ip = '<missing>'", no word of Ipp
+    ("\nkxx = ", "\nKxx = ", "Kxx", "kxx"),         # read as kxx = 0: refused for a moment_stiffness
 ])
 def test_a_misspelled_ross_key_is_refused_with_the_key_meant(tmp_path, capsys, old, new, key, meant):
     path = _ross(tmp_path, old, new)
@@ -139,6 +140,17 @@ def test_a_misspelled_ross_key_is_refused_with_the_key_meant(tmp_path, capsys, o
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and f"did you mean '{meant}'" in err, err
     assert not (tmp_path / "out.toml").exists()
+
+
+def test_a_ross_bearing_without_kxx_is_refused_naming_it(tmp_path):
+    """ROSS's bearing classes require ``kxx`` and ``cxx``; a table without ``kxx`` was read as
+    a bearing of no stiffness (refused here for a ``moment_stiffness`` the ROSS file cannot give)."""
+    text = (ROSS / "rotor_example.toml").read_text()
+    start = text.index('["BearingElement_Bearing 0"]')
+    line = text.index("\nkxx = ", start)
+    path = _write(tmp_path, text[:line] + text[text.index("\n", line + 1):], "r.toml")
+    with pytest.raises(ModelError, match=r"\[BearingElement_Bearing 0\] kxx = '<missing>'"):
+        read_ross_rotor(path)
 
 
 def test_a_ross_version_newer_than_the_readers_is_said(tmp_path):

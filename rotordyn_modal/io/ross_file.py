@@ -316,7 +316,8 @@ def _check_element_keys(source: str, elements: dict) -> None:
                     if name in allowed:
                         continue
                     absent = [a for a in allowed if a not in keys]
-                    said = unknown_key(name, absent)
+                    same = [a for a in absent if a.lower() == str(name).lower()]   # 'Kxx' for 'kxx'
+                    said = f" (unknown key; did you mean {same[0]!r}?)" if same else unknown_key(name, absent)
                     if "did you mean" in said:
                         raise ModelError(source, f"{where} {shown_text(str(name))}", keys[name],
                                          "one of the keys ROSS saves in a " + cls + said)
@@ -641,7 +642,11 @@ def _warn_pchip(source: str, found: list) -> None:
 
 def _values(source: str, key: str, table: dict, name: str, count: int, axis_text: str) -> list:
     """A coefficient as ``count`` numbers (ROSS defaults: kyy = kxx, cyy = cxx, others 0);
-    ``axis_text`` names the table's speeds in the message of a count that differs."""
+    ``axis_text`` names the table's speeds in the message of a count that differs. ``kxx`` and
+    ``cxx`` are required, as ROSS's bearing and seal classes require them (they were read as 0)."""
+    if name in ("kxx", "cxx") and name not in table:
+        raise ModelError(source, f"[{key}] {name}", "<missing>", f"a number or one per speed: ROSS's {key.split('_')[0]} "
+                         "requires kxx and cxx (ROSS's Rotor.save writes every coefficient)")
     default = {"kyy": "kxx", "cyy": "cxx", "myy": "mxx"}.get(name)
     value = table.get(name, table.get(default, 0.0) if default else 0.0)
     if not isinstance(value, list):

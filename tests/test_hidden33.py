@@ -142,6 +142,16 @@ def test_a_misspelled_ross_key_is_refused_with_the_key_meant(tmp_path, capsys, o
     assert not (tmp_path / "out.toml").exists()
 
 
+def test_a_misspelled_ross_rotor_damping_is_refused(tmp_path):
+    """``alpah = 8.05`` for ROSS's mass-proportional damping ``alpha``: the rotor was read
+    undamped without a word (``alpha`` itself is refused: not modelled)."""
+    text = (ROSS / "rotor_example_with_damping.toml").read_text()
+    assert "\nalpha = 8.0501\nbeta = 1e-5\n" in text
+    path = _write(tmp_path, text.replace("\nalpha = 8.0501\nbeta = 1e-5\n", "\nalpah = 8.0501\nbeta = 0.0\n", 1))
+    with pytest.raises(ModelError, match=r"\[parameters\] alpah = 8.0501: .*did you mean 'alpha'"):
+        read_ross_rotor(path)
+
+
 def test_a_ross_bearing_without_kxx_is_refused_naming_it(tmp_path):
     """ROSS's bearing classes require ``kxx`` and ``cxx``; a table without ``kxx`` was read as
     a bearing of no stiffness (refused here for a ``moment_stiffness`` the ROSS file cannot give)."""

@@ -48,6 +48,7 @@ _MATERIAL_KEYS = ("name", "rho", "E", "G_s", "Poisson", "specific_heat", "therma
 _BEARING_KEYS = ("n", *_COEFFICIENTS, *_MASS_COEFFICIENTS, "speed", "frequency", "tag", "n_link", "scale_factor",
                  "color", "interpolation", "radial_clearance", "seal_leakage", "n_balls", "d_balls", "n_rollers",
                  "l_rollers", "fs", "alpha")
+_PARAMETER_KEYS = ("min_w", "max_w", "rated_w", "modal_damping_ratio", "default_damping_ratio", "alpha", "beta", "tag")
 #: the ROSS versions whose saves this reader was checked on (oldest, newest), as (major, minor)
 ROSS_VERSIONS = ((0, 4), (3, 1))
 #: what ``import-ross`` reads, said when a file is something else
@@ -351,9 +352,16 @@ def _warn_version(source: str, version) -> None:
 
 def _check_parameters(source: str, data: dict) -> None:
     """Refuse the rotor-level damping ROSS adds to the matrices (not modelled here)."""
+    from ..model._table import unknown_key
+
     parameters = data.get("parameters", {})
     if not isinstance(parameters, dict):
         raise ModelError(source, "parameters", parameters, "a table")
+    for name in parameters:     # 'alpah' for 'alpha': proportional damping lost without a word
+        said = unknown_key(name, [k for k in _PARAMETER_KEYS if k not in parameters])
+        if name not in _PARAMETER_KEYS and "did you mean" in said:
+            raise ModelError(source, f"[parameters] {shown_text(str(name))}", parameters[name],
+                             "one of the keys ROSS saves in [parameters]" + said)
     for key in ("alpha", "beta", "default_damping_ratio"):
         value = parameters.get(key, 0.0)
         if _number(source, f"[parameters] {key}", value) != 0.0:

@@ -107,7 +107,8 @@ def test_measured_from_standard_input_is_read_by_its_bytes(tmp_path, measured_fi
 
 def test_a_measured_pipe_is_named_as_typed_in_its_refusal(tmp_path, measured_files):
     """A broken file through a pipe is refused naming ``/dev/stdin``, never the temporary copy."""
-    data = (measured_files / "m.uff").read_bytes()[:2000]          # cut short inside a dataset
+    # cut short inside its first dataset (cut in a later one, the complete datasets are read with a warning)
+    data = (measured_files / "m.uff").read_bytes()[:600]
     code, _, err = _cli(["frf", GEAR, *FREQS, "--measured", "/dev/stdin"], tmp_path, stdin=data)
     assert code == 2
     assert err.count("\n") == 1 and "error: /dev/stdin: incomplete Universal File" in err, err

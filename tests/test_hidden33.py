@@ -66,6 +66,19 @@ def test_a_rotor_mode_below_half_a_hertz_in_its_bearings_is_named_without_gravit
     assert "[bearings.a], [bearings.b]" in lines[0] and "below 0.5 Hz" in lines[0]
 
 
+def test_a_flexible_rotor_on_bearings_of_centinewtons_per_metre_is_named(tmp_path):
+    """The compressor's bearings of 5e7 N/m typed as 5e-2: its lowest mode (scipy on the model's
+    own M and K at rest) is far below 0.5 Hz; nothing was said (its shaft's stiff elements put
+    that eigenvalue near their round-off)."""
+    text = (EXAMPLES / "compressor_rotor.toml").read_text().replace("stiffness = 5.0e7", "stiffness = 5.0e-2")
+    path = _write(tmp_path, text)
+    matrices = rdm.Model.from_dict(rdm.load_model(path).to_dict()).matrices()
+    lowest = scipy.linalg.eigh(0.5 * (matrices.K + matrices.K.T), matrices.M, eigvals_only=True)[0]
+    assert math.sqrt(max(lowest, 0.0)) / (2 * math.pi) < 0.5
+    lines = [line for line in _model_warnings(path) if "in its bearings" in line]
+    assert len(lines) == 1 and "rotor 'compressor' has a mode at" in lines[0] and "below 0.5 Hz" in lines[0], lines
+
+
 @pytest.mark.parametrize("stiffness, gravity", [(1e5, False), (1e5, True), (1e-3, True)])
 def test_a_rotor_on_plausible_bearings_is_quiet_and_a_sag_is_said_once(tmp_path, stiffness, gravity):
     """Bearings of 1e5 N/m stay quiet; under gravity the 1e-3 N/m bearings draw the sag line

@@ -252,3 +252,46 @@ def test_a_universal_file_cut_in_its_first_dataset_is_still_refused(tmp_path, fo
     cut = _write(tmp_path, "".join(four_frfs.read_text().splitlines(keepends=True)[:10]), "cut.uff")
     with pytest.raises(InputError, match="incomplete Universal File"):
         read_measured(cut, rdm.load_model(GEAR))
+
+
+# ----------------------------------------------------------------------- TDMS files cut short
+@pytest.fixture()
+def two_segments(tmp_path) -> bytes:
+    """A TDMS file of two segments of 2048 samples of a force and an acceleration, as a logger
+    appending blocks writes it."""
+    nptdms = pytest.importorskip("nptdms")
+    samples = np.sin(2 * np.pi * 50 * np.arange(4096) * 1e-3)
+    path = tmp_path / "whole.tdms"
+    with nptdms.TdmsWriter(str(path)) as writer:
+        for block in (samples[:2048], samples[2048:]):
+            props = {"wf_increment": 1e-3, "wf_start_offset": 0.0}
+            writer.write_segment([nptdms.RootObject(), nptdms.GroupObject("g"),
+                                  nptdms.ChannelObject("g", "force", block, properties={**props, "unit_string": "N"}),
+                                  nptdms.ChannelObject("g", "acc", block, properties={**props, "unit_string": "g"})])
+    return path.read_bytes()
+
+
+def _cut_tdms(tmp_path, data, size) -> Path:
+    path = tmp_path / "cut.tdms"
+    path.write_bytes(data[:size])
+    return path
+
+
+def test_a_tdms_file_cut_in_its_second_segments_metadata_reads_the_first_with_a_line(tmp_path, two_segments, capfd):
+    """npTDMS drops the cut segment and logs '[nptdms.reader WARNING] ...' on stderr: the record
+    came out half as long with no line of ours."""
+    path = _cut_tdms(tmp_path, two_segments, len(two_segments) // 2 + 50)
+    with pytest.warns(UserWarning, match=r"cut.tdms: the file is cut short in its last segment .*2048 samples"):
+        records = rdm.read_tdms_records(path)
+    assert records.signals.shape == (1, 2, 2048)
+    np.testing.assert_array_equal(records.signals[0, 0], np.sin(2 * np.pi * 50 * np.arange(2048) * 1e-3))
+    assert "nptdms" not in capfd.readouterr().err
+
+
+@pytest.mark.parametrize("keep, said", [(-100, "cut short inside its last segment's data"),
+                                        (300, "cut short in its first segment")])
+def test_a_tdms_file_cut_in_its_data_or_first_segment_is_refused_as_cut(tmp_path, two_segments, keep, said):
+    """They were refused as channels of two lengths [4083, 4096], or as a file without groups."""
+    path = _cut_tdms(tmp_path, two_segments, keep if keep > 0 else len(two_segments) + keep)
+    with pytest.raises(InputError, match=said):
+        rdm.read_tdms_records(path)

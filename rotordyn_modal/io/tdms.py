@@ -14,6 +14,8 @@ factor 0.
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 
 from ..errors import InputError
@@ -39,11 +41,63 @@ def _tdms_file(path):
     check_size(path, "measured", "measured-data file")
     refuse_unsized(path, "a TDMS file")   # a pipe no program writes to blocked npTDMS for ever
     try:
-        return TdmsFile.read(str(path))
+        with _npTDMS_said() as said:
+            tdms = TdmsFile.read(str(path))
     except FileNotFoundError:
         raise InputError(f"{path}: TDMS file not found") from None
     except Exception as error:  # npTDMS raises ValueError, struct errors, ... on a damaged file
         raise InputError(f"{path}: not a readable TDMS file ({type(error).__name__}: {error})") from None
+    _check_complete(tdms, said, path)
+    return tdms
+
+
+@contextlib.contextmanager
+def _npTDMS_said():
+    """The warnings npTDMS logs while it reads (a file cut short: 'Last segment metadata is
+    incomplete', '... less data than expected'), kept from the terminal and collected in the
+    list this yields: :func:`_check_complete` says them in one line."""
+    import logging
+
+    said: list[str] = []
+
+    class Keep(logging.Handler):
+        def emit(self, record):
+            said.append(record.getMessage())
+
+    # npTDMS gives each of its modules' loggers a handler printing to stderr (nptdms/log.py)
+    names = ["nptdms", *(name for name in logging.Logger.manager.loggerDict if name.startswith("nptdms."))]
+    loggers = [logging.getLogger(name) for name in names]
+    saved = [(logger.handlers[:], logger.propagate) for logger in loggers]
+    handler = Keep(logging.WARNING)
+    for logger in loggers:
+        logger.handlers, logger.propagate = [handler], False
+    try:
+        yield said
+    finally:
+        for logger, (handlers, propagate) in zip(loggers, saved):
+            logger.handlers, logger.propagate = handlers, propagate
+
+
+def _check_complete(tdms, said, path) -> None:
+    """Refuse a TDMS file cut short inside its last segment's data (npTDMS reads that segment's
+    channels to different lengths) or in its first segment; warn, in one line, of one cut in a
+    later segment's metadata (npTDMS leaves that segment out: the complete ones are read)."""
+    if not said:
+        return
+    groups = list(tdms.groups())
+    if any("less data" in line or "chunk size" in line for line in said):
+        raise InputError(f"{path}: the file is cut short inside its last segment's data (npTDMS: {said[0]}): "
+                         "expected a complete TDMS file (a recording stopped while writing, or a copy cut off)")
+    if any("incomplete" in line for line in said):
+        if not groups:
+            raise InputError(f"{path}: the file is cut short in its first segment (npTDMS: {said[0]}): no channel "
+                             "can be read; expected a complete TDMS file")
+        import warnings
+
+        lengths = sorted({len(c) for g in groups for c in g.channels()})
+        warnings.warn(f"{path}: the file is cut short in its last segment (npTDMS: {said[0]}): left out, the "
+                      f"complete segments before it read ({'/'.join(map(str, lengths))} samples a channel)",
+                      stacklevel=4)
 
 
 @reads_pipes(".tdms", "TDMS file")

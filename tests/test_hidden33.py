@@ -79,6 +79,17 @@ def test_a_flexible_rotor_on_bearings_of_centinewtons_per_metre_is_named(tmp_pat
     assert len(lines) == 1 and "rotor 'compressor' has a mode at" in lines[0] and "below 0.5 Hz" in lines[0], lines
 
 
+def test_a_rotor_soft_across_gravity_is_named(tmp_path):
+    """Bearings of 1e6 N/m along gravity (a sag of 15 micrometres: no sag line) and 1e-3 N/m
+    across it: the horizontal modes are a few mHz, and nothing was said."""
+    text = _rigid_rotor(1.0, gravity=True).replace("stiffness = 1.0", "stiffness = [1e-3, 1e6]")
+    k = 1e-3
+    stiffness = np.array([[2 * k, k * (A + B)], [k * (A + B), k * (A * A + B * B)]])
+    lowest = math.sqrt(scipy.linalg.eigh(stiffness, np.diag([MASS, DIAMETRAL]), eigvals_only=True)[0]) / (2 * math.pi)
+    lines = _model_warnings(_write(tmp_path, text))
+    assert len(lines) == 1 and f"has a mode at {lowest:.3g} Hz in its bearings" in lines[0], lines
+
+
 @pytest.mark.parametrize("stiffness, gravity", [(1e5, False), (1e5, True), (1e-3, True)])
 def test_a_rotor_on_plausible_bearings_is_quiet_and_a_sag_is_said_once(tmp_path, stiffness, gravity):
     """Bearings of 1e5 N/m stay quiet; under gravity the 1e-3 N/m bearings draw the sag line

@@ -31,7 +31,7 @@ MASS, POLAR, DIAMETRAL, A, B = 3.0, 0.2, 0.11, 0.3, -0.1
 
 
 def _rigid_rotor(stiffness: float, gravity: bool = False) -> str:
-    return (f'name = "rigid rotor"\nspin_axis = [0.0, 0.0, 1.0]\nreference_rotor = "r"\n'
+    return ('name = "rigid rotor"\nspin_axis = [0.0, 0.0, 1.0]\nreference_rotor = "r"\n'
             + ("gravity = [0.0, -9.81, 0.0]\n" if gravity else "")
             + f'[[rotors]]\nname = "r"\nmass = {MASS}\ncenter_of_mass = [0.0, 0.0, 0.0]\n'
             f"polar_inertia = {POLAR}\ndiametral_inertia = {DIAMETRAL}\n"

@@ -350,21 +350,25 @@ def _low_mode_lines(model) -> list[str]:
 
 
 def _low_rotor_mode_lines(model) -> list[str]:
-    """The warning about a mode of the rotors in their bearings below
+    """The warning about a rigid-body mode of the rotors in their bearings below
     :data:`LOWEST_MOUNT_FREQUENCY`, or none: the undamped modes at rest of the constant supports
     with the stator held (its own modes on the suspensions are :func:`_low_mode_lines`'), of
-    the symmetric part of the stiffness. A model with speed-dependent bearings (journal
-    bearings, speed tables), whose stiffness at rest is not its running one, is left out."""
+    the symmetric part of the stiffness, whose strain energy lies mostly in the supports, not in
+    a flexible shaft's bending (a long thin shaft bends at 0.2 Hz between rigid bearings: a
+    legal mode, not a unit slip). A model with speed-dependent bearings (journal bearings, speed
+    tables), whose stiffness at rest is not its running one, is left out."""
     import scipy.linalg
+
+    from .assembly import shaft_stiffness
 
     if any(b.coefficients.kind != "constant" for b in model.bearings):
         return []
     first = model.dofs.n_frame
     stiffness, _ = constant_stiffness_damping(model)
     stiffness = stiffness[first:, first:]
-    mass = mass_matrix(model)[first:, first:]
     if not stiffness.size:
         return []
+    mass = mass_matrix(model)[first:, first:]
     # rows and columns to one size first (N/m beside N m/rad), as static_solution does
     size = np.sqrt(np.abs(np.diag(mass)))
     size[size == 0] = 1.0
@@ -373,15 +377,23 @@ def _low_rotor_mode_lines(model) -> list[str]:
     # validation refuses bearings that leave a rotor free in any of its motions, so no direction
     # is unrestrained here; a flexible shaft's stiff elements set the eigenvalues' round-off
     noise = 10 * len(values) * np.finfo(float).eps * np.abs(values).max(initial=0.0)
-    lowest = float(np.sqrt(max(values[0], noise)) / (2 * np.pi))
-    if not lowest < LOWEST_MOUNT_FREQUENCY:
+    low = np.flatnonzero(np.sqrt(np.maximum(values, noise)) / (2 * np.pi) < LOWEST_MOUNT_FREQUENCY)
+    if not low.size:
         return []
-    shape = vectors[:, 0] / size
+    shapes = vectors[:, low] / size[:, None]
+    bending = shaft_stiffness(model)[first:, first:]
+    total = np.einsum("ik,ij,jk->k", shapes, 0.5 * (stiffness + stiffness.T), shapes)
+    shaft = np.einsum("ik,ij,jk->k", shapes, bending, shapes)
+    rigid = np.flatnonzero(shaft < 0.5 * np.abs(total))       # the supports hold most of its energy
+    if not rigid.size:
+        return []
+    k, shape = low[rigid[0]], shapes[:, rigid[0]]
+    lowest = float(np.sqrt(max(values[k], noise)) / (2 * np.pi))
     energy = shape * (mass @ shape)
     rotor = _coordinate_rotor(model, first + int(np.argmax(np.abs(energy))))
     held_by = [f"[bearings.{visible(b.name)}]" for b in model.bearings if b.rotor == rotor]
-    at = f"{lowest:.3g} Hz" if values[0] > noise else f"below {lowest:.2g} Hz (how far, round-off hides)"
-    return [f"{model.source}: rotor {visible(rotor)!r} has a mode at {at} in its bearings "
+    at = f"{lowest:.3g} Hz" if values[k] > noise else f"below {lowest:.2g} Hz (how far, round-off hides)"
+    return [f"{model.source}: rotor {visible(rotor)!r} has a rigid-body mode at {at} in its bearings "
             f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; at rest, the stator held), below "
             f"{LOWEST_MOUNT_FREQUENCY:g} Hz, where bearings hold a rotor far stiffer: a stiffness in N/mm given as "
             "N/m, or a mass in g given as kg, puts modes 32 times too low"]

@@ -62,7 +62,7 @@ def test_a_rotor_mode_below_half_a_hertz_in_its_bearings_is_named_without_gravit
     lowest = math.sqrt(scipy.linalg.eigh(stiffness, np.diag([MASS, DIAMETRAL]), eigvals_only=True)[0]) / (2 * math.pi)
     lines = _model_warnings(_write(tmp_path, _rigid_rotor(k)))
     assert len(lines) == 1, lines
-    assert f"rotor 'r' has a mode at {lowest:.3g} Hz in its bearings" in lines[0], lines
+    assert f"rotor 'r' has a rigid-body mode at {lowest:.3g} Hz in its bearings" in lines[0], lines
     assert "[bearings.a], [bearings.b]" in lines[0] and "below 0.5 Hz" in lines[0]
 
 
@@ -76,7 +76,7 @@ def test_a_flexible_rotor_on_bearings_of_centinewtons_per_metre_is_named(tmp_pat
     lowest = scipy.linalg.eigh(0.5 * (matrices.K + matrices.K.T), matrices.M, eigvals_only=True)[0]
     assert math.sqrt(max(lowest, 0.0)) / (2 * math.pi) < 0.5
     lines = [line for line in _model_warnings(path) if "in its bearings" in line]
-    assert len(lines) == 1 and "rotor 'compressor' has a mode at" in lines[0] and "below 0.5 Hz" in lines[0], lines
+    assert len(lines) == 1 and "rotor 'compressor' has a rigid-body mode at" in lines[0] and "below 0.5 Hz" in lines[0], lines
 
 
 def test_a_rotor_soft_across_gravity_is_named(tmp_path):
@@ -87,7 +87,7 @@ def test_a_rotor_soft_across_gravity_is_named(tmp_path):
     stiffness = np.array([[2 * k, k * (A + B)], [k * (A + B), k * (A * A + B * B)]])
     lowest = math.sqrt(scipy.linalg.eigh(stiffness, np.diag([MASS, DIAMETRAL]), eigvals_only=True)[0]) / (2 * math.pi)
     lines = _model_warnings(_write(tmp_path, text))
-    assert len(lines) == 1 and f"has a mode at {lowest:.3g} Hz in its bearings" in lines[0], lines
+    assert len(lines) == 1 and f"has a rigid-body mode at {lowest:.3g} Hz in its bearings" in lines[0], lines
 
 
 @pytest.mark.parametrize("stiffness, gravity", [(1e5, False), (1e5, True), (1e-3, True)])

@@ -392,8 +392,8 @@ def _low_rotor_mode_lines(model) -> list[str]:
     energy = shape * (mass @ shape)
     rotor = _coordinate_rotor(model, first + int(np.argmax(np.abs(energy))))
     held_by = [f"[bearings.{visible(b.name)}]" for b in model.bearings if b.rotor == rotor]
-    at = f"{lowest:.3g} Hz" if values[k] > noise else f"below {lowest:.2g} Hz (how far, round-off hides)"
-    return [f"{model.source}: rotor {visible(rotor)!r} has a rigid-body mode at {at} in its bearings "
+    at = f"at {lowest:.3g} Hz" if values[k] > noise else f"below {lowest:.2g} Hz (how far, round-off hides)"
+    return [f"{model.source}: rotor {visible(rotor)!r} has a rigid-body mode {at} in its bearings "
             f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; at rest, the stator held), below "
             f"{LOWEST_MOUNT_FREQUENCY:g} Hz, where bearings hold a rotor far stiffer: a stiffness in N/mm given as "
             "N/m, or a mass in g given as kg, puts modes 32 times too low"]

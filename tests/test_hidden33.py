@@ -306,3 +306,17 @@ def test_a_tdms_file_cut_in_its_data_or_first_segment_is_refused_as_cut(tmp_path
     path = _cut_tdms(tmp_path, two_segments, keep if keep > 0 else len(two_segments) + keep)
     with pytest.raises(InputError, match=said):
         rdm.read_tdms_records(path)
+
+
+# ----------------------------------------------------------------------- a typographic minus in a CSV
+def test_a_typographic_minus_in_a_measured_csv_is_named(tmp_path, capsys):
+    """'−5.0e-07' (U+2212, as word processors write a minus) was refused as 'expected a number'
+    with nothing to show why: the character looks like '-'."""
+    path = tmp_path / "g.csv"
+    assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--out", str(path), "--quiet"]) == 0
+    text = path.read_text()
+    assert ",-" in text
+    path.write_text(text.replace(",-", ",\u2212"))
+    assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--measured", str(path), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "U+2212, MINUS SIGN" in err and "expected a number" in err, err

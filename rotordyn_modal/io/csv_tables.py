@@ -326,8 +326,20 @@ def numbers(table, name, path, decimal: str = "."):
     if bad.any():
         row = int(np.argmax(bad))
         raise InputError(f"{path}: column {name} line {file_line(table, row)} = {cells.iloc[row][:40]!r}: "
-                         "expected a number")
+                         f"expected a number{_foreign_character(cells.iloc[row])}")
     return values
+
+
+def _foreign_character(text: str) -> str:
+    """`` (it holds U+2212, MINUS SIGN, not ASCII: ...)`` for a cell's first character beyond ASCII
+    (a typographic minus, a no-break space, as word processors and some locales write them), or ''."""
+    import unicodedata
+
+    found = next((c for c in text if ord(c) > 127), None)
+    if found is None:
+        return ""
+    hint = ": type the ASCII '-'" if found in "\u2212\u2013\u2010\u2011\u2012\ufe63\uff0d" else ""
+    return f" (it holds U+{ord(found):04X}, {unicodedata.name(found, 'unnamed')}, not ASCII{hint})"
 
 
 def file_line(table, row: int) -> int:

@@ -394,13 +394,22 @@ def margins_table(margins, units: str = "si", amplitude: str = "pk-pk") -> str:
     to_vibration, vibration = shown_scale("vibration", units)
     to_vibration *= amplitude_factor(amplitude)                     # the table holds 0-peak amplitudes
     rows = [[r.output, r.case if has_case else r.source, _g(r.speed_rpm, 6), _g(r.amplitude * to_vibration),
-             _g(r.amplification_factor, 3) or "unknown*", _g(r.separation_margin_pct, 3),
+             af_text(r.amplification_factor), _g(r.separation_margin_pct, 3),
              _g(r.required_margin_pct, 3) or "unknown*", _verdict_cell(r.verdict)] for r in margins.itertuples()]
-    unknown = not np.all(np.isfinite(np.asarray(margins["amplification_factor"], dtype=float)))
+    unknown = bool(np.any(np.isnan(np.asarray(margins["amplification_factor"], dtype=float))))
     return _table(rows, [("output", True), ("case" if has_case else "source (1X of)", True),
                          ("peak speed [rpm]", False), (f"amplitude, {amplitude_label(amplitude)} [{vibration}]", False),
                          ("AF [-]", False), ("separation margin [%]", False), ("required margin [%]", False),
                          ("verdict", True)]) + (_AF_UNKNOWN if unknown else "")
+
+
+def af_text(af: float, digits: int = 3) -> str:
+    """An amplification factor as the AF table and the summary show it: ``unknown*`` where it is
+    NaN (a half-power point beyond the sweep: the note under the table says so), ``inf
+    (undamped)`` where it is infinite (an undamped resonance: N1 = N2, known, judged against the
+    largest margin any AF requires), else ``digits`` significant digits."""
+    af = float(af)
+    return "unknown*" if np.isnan(af) else "inf (undamped)" if np.isinf(af) else f"{af:.{digits}g}"
 
 
 #: under the AF table where a peak's AF is unknown (its rows "not evaluated")

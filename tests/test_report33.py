@@ -1,0 +1,123 @@
+"""Issue 29 §7, the report read as the engineer who signs it (report33): every verdict traceable
+to its numbers.
+
+- The summary's stability row named its least damped mode by number only ("mode 42"), a mode that
+  may lie far above the Campbell figure's axis (examples/compressor_on_journals.toml: a 20.9 kHz
+  shaft bending mode, where the figure stops at 143 Hz): nothing in the report said which mode
+  that was. The note now gives its frequency and whirl at that speed.
+- An undamped resonance has an infinite amplification factor (N1 = N2, judged against the largest
+  margin any AF requires): the summary said "AF inf" while the AF table said "unknown*" for the same
+  peak, with a note that the amplitude "does not fall to peak/sqrt 2 within the sweep"
+  (examples/spring_block_rotor.toml). Both now say "inf (undamped)"; the note is for NaN only.
+- A response without a peak passed the separation margin with an empty limit: the summary row now
+  names the rule and the swept range it looked over.
+"""
+
+from __future__ import annotations
+
+import html
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.cli import main
+from rotordyn_modal.io import load_model
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+RPM = np.pi / 30
+
+
+def _rows(table_html: str) -> list:
+    """The cells (tags out) of each row of one HTML table."""
+    return [[html.unescape(re.sub(r"<[^>]+>", "", c)).strip() for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, re.S)]
+            for row in re.findall(r"<tr.*?</tr>", table_html, re.S)]
+
+
+def _summary(page: str) -> dict:
+    """criterion -> (value, limit, verdict, note) of the report's summary table."""
+    table = re.search(r'<h2 id="summary".*?(<table.*?</table>)', page, re.S).group(1)
+    rows = _rows(table)
+    return {r[0]: tuple(r[1:5]) for r in rows[1:]}
+
+
+def _report(tmp_path, name, *options) -> str:
+    out = tmp_path / f"{name}.html"
+    assert main(["report", str(EXAMPLES / f"{name}.toml"), *options, "--out", str(out), "--quiet"]) == 0
+    return out.read_text(encoding="utf-8")
+
+
+def test_the_least_damped_mode_of_the_stability_row_is_named_by_its_frequency_and_whirl():
+    """The stability row's note names the least damped mode's frequency and whirl at the speed it
+    names; checked against ``modal`` at that speed solved on its own: the oscillating root of least
+    log decrement has that frequency (5 significant digits) and that whirl."""
+    import importlib
+
+    from rotordyn_modal.analysis.campbell import campbell
+    from rotordyn_modal.report import ReportInputs
+
+    collect = importlib.import_module("rotordyn_modal.report.collect")
+
+    model = load_model(EXAMPLES / "fan_on_bearings.toml")
+    inputs = ReportInputs("api684", 3000 * RPM, points=15)
+    data = collect.ReportData(inputs, model, {}, ("campbell",))
+    data.results["campbell"] = campbell(model, inputs.speeds, orders=(1,))
+    collect._stability(data)
+    (row,) = [c for c in data.criteria if c.name == collect.STABILITY_CRITERION]
+    found = re.search(r"least damped: mode (\d+) \(Campbell diagram's number; ([\d.]+) Hz, (\w+) whirl\) "
+                      r"at (\d+) rpm", row.why)
+    assert found, row.why
+    speed = float(found.group(4)) * RPM
+    alone = rdm.modal(model, speed).to_dataframe()
+    least = alone.loc[alone["log_decrement"].idxmin()]
+    assert float(found.group(2)) == pytest.approx(least["frequency_hz"], rel=1e-4)
+    assert found.group(3) == least["whirl"]
+    assert f"log dec {least['log_decrement']:.3g}" in row.value
+
+
+def test_an_infinite_af_is_shown_as_undamped_not_unknown():
+    """An undamped resonance's AF is infinite (known): the AF table shows it so, and the note
+    that explains unknown AFs (a half-power point beyond the sweep) is left out; an unknown AF
+    still reads "unknown*" with its note."""
+    from rotordyn_modal.report.render import margins_table
+
+    margins = pd.DataFrame({"output": ["p", "p"], "case": ["api-static:r", "api-static:r"],
+                            "speed_rpm": [119.2, 726.0], "amplitude": [2e-5, 2e-6],
+                            "amplification_factor": [np.inf, np.nan], "separation_margin_pct": [96.0, 75.8],
+                            "required_margin_pct": [16.0, 16.0], "verdict": ["pass", "pass"]})
+    table = margins_table(margins.iloc[:1])
+    rows = _rows(table)
+    af = rows[0].index("AF [-]")
+    assert rows[1][af] == "inf (undamped)"
+    assert "AF unknown" not in table
+    both = _rows(margins_table(margins))
+    assert [r[af] for r in both[1:]] == ["inf (undamped)", "unknown*"]
+
+
+def test_summary_and_af_table_say_the_same_of_an_undamped_peak(tmp_path):
+    """examples/spring_block_rotor.toml has no damping: its peak's AF is infinite. The summary's
+    separation-margin value and the AF table's row of the governing peak give the same AF."""
+    page = _report(tmp_path, "spring_block_rotor", "--standard", "api684", "--mcs", "3000", "--points", "31",
+                   "--stiffness", "1e2:1e10:9")
+    value, limit, verdict, note = _summary(page)["API 684 separation margin"]
+    assert "AF inf (undamped)" in value and verdict == "pass", value
+    section = page[page.index("Amplification factors and separation margins"):]
+    rows = _rows(re.search(r"<table.*?</table>", section, re.S).group(0))
+    af = rows[0].index("AF [-]")
+    assert {r[af] for r in rows[1:]} == {"inf (undamped)"}
+    assert "* AF unknown" not in section[:section.index("</table>") + 400]
+
+
+def test_a_response_without_a_peak_names_the_rule_it_passes(tmp_path):
+    """examples/journal_rotor.toml (its modes damped past any peak): the separation margin passes
+    with "no resonance peak"; its limit names the rule and the note the swept range."""
+    page = _report(tmp_path, "journal_rotor", "--standard", "api684", "--mcs", "3000", "--points", "15",
+                   "--stiffness", "1e5:1e10:6")
+    value, limit, verdict, note = _summary(page)["API 684 separation margin"]
+    assert (value, verdict) == ("no resonance peak", "pass")
+    assert limit == "each peak's required SM"
+    assert re.search(r"over the sweep, 60 to 4500 rpm", note), note

@@ -121,3 +121,28 @@ def test_a_response_without_a_peak_names_the_rule_it_passes(tmp_path):
     assert (value, verdict) == ("no resonance peak", "pass")
     assert limit == "each peak's required SM"
     assert re.search(r"over the sweep, 60 to 4500 rpm", note), note
+
+
+def test_the_level1_figure_title_fits_with_several_stations():
+    """A compressor's Level I names a station per impeller: with four, the title's line
+    "at 6600 rpm, Q at compressor@-0.364254 m, ..." ran off both sides of the report's figure
+    (examples/compressor_on_journals.toml, api617 with stage data). Every title line now lies
+    inside the figure, and the station names are all there."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from rotordyn_modal.analysis.level1 import Station, level1
+
+    model = load_model(EXAMPLES / "journal_rotor.toml")
+    # six stations, as a six-impeller compressor gives (offsets typed to the micrometre)
+    stations = [Station.parse(f"rotor@{x}") for x in (-0.081234, -0.051234, -0.021234, 0.011234, 0.041234, 0.071234)]
+    fig = level1(model, 3000 * RPM, stations, 2e5).plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    box = fig.bbox
+    title = fig.axes[0].title
+    extent = title.get_window_extent(renderer)
+    assert box.x0 - 0.5 <= extent.x0 and extent.x1 <= box.x1 + 0.5, (extent, box)
+    text = title.get_text().replace("\n", " ")
+    for station in stations:
+        assert station.named("si") in text

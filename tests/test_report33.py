@@ -146,3 +146,42 @@ def test_the_level1_figure_title_fits_with_several_stations():
     text = title.get_text().replace("\n", " ")
     for station in stations:
         assert station.named("si") in text
+
+
+@pytest.mark.parametrize("units", ["si", "us"])
+def test_the_level1_section_shows_the_stage_data_that_give_qa(tmp_path, units):
+    """With stage data, the report's Level I section gave Qa (7.321e+04 N/m) and nothing it came
+    from but the command line. It now lists each stage's P, D, H and density ratio, as typed, in the
+    report's units, with its q_A = 3 P / (Omega_r D H) rho_d/rho_s worked here by hand (Omega_r the
+    MCS, 3000 rpm), and their sum, the Qa of the quantity table."""
+    hp, inch, lbf_per_in = 550 * 12 * 0.0254 * 4.4482216152605, 0.0254, 4.4482216152605 / 0.0254
+    power, diameter, height, ratio = [15e3, 20e3], 0.3, [0.015, 0.02], [1.1, 1.2]
+    omega = 3000 * RPM
+    by_hand = [3 * p / omega / (diameter * h) * r for p, h, r in zip(power, height, ratio)]       # N/m
+    if units == "si":
+        typed = ["15e3,20e3", "0.3", "0.015,0.02"]
+        shown = [(p, diameter, h, r, q) for p, h, r, q in zip(power, height, ratio, by_hand)]
+    else:
+        typed = [f"{power[0] / hp!r},{power[1] / hp!r}", f"{diameter / inch!r}",
+                 f"{height[0] / inch!r},{height[1] / inch!r}"]
+        shown = [(p / hp, diameter / inch, h / inch, r, q / lbf_per_in) for p, h, r, q in zip(power, height, ratio, by_hand)]
+    page = _report(tmp_path, "journal_rotor", "--standard", "api617", "--mcs", "3000", "--station", "rotor",
+                   "--rated-power", typed[0], "--impeller-diameter", typed[1], "--restriction-height", typed[2],
+                   "--density-ratio", "1.1,1.2", "--points", "15", "--stiffness", "1e5:1e10:6" if units == "si"
+                   else "571:5.7e7:6", "--units", units)
+    section = page[page.index('<h2 id="level1"'):]
+    tables = re.findall(r"<table.*?</table>", section, re.S)
+    stages = [t for t in tables if "q_A [" in t]
+    assert len(stages) == 1, "no table of the stage data"
+    rows = _rows(stages[0])
+    assert rows[0] == ["stage", f"P [{'W' if units == 'si' else 'hp'}]", f"D [{'m' if units == 'si' else 'in'}]",
+                       f"H [{'m' if units == 'si' else 'in'}]", "ρd/ρs [-]",
+                       f"q_A [{'N/m' if units == 'si' else 'lbf/in'}]"]
+    for row, expected in zip(rows[1:3], shown):
+        assert [float(x) for x in row[1:]] == pytest.approx(list(expected), rel=1e-5), row
+    total = sum(q for *_, q in shown)
+    assert rows[3][0] == "sum: Qa" and float(rows[3][-1]) == pytest.approx(total, rel=1e-5)
+    quantities = _rows(tables[0])
+    (qa_row,) = [r for r in quantities if r[0].startswith("anticipated cross-coupling Qa")]
+    assert float(qa_row[1]) == pytest.approx(total, rel=1e-3)           # shown to 4 digits
+    assert "N<sub>r</sub> = 3000 rpm" in section

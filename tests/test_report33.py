@@ -8,7 +8,7 @@ to its numbers.
 - An undamped resonance has an infinite amplification factor (N1 = N2, judged against the largest
   margin any AF requires): the summary said "AF inf" while the AF table said "unknown*" for the same
   peak, with a note that the amplitude "does not fall to peak/sqrt 2 within the sweep"
-  (examples/spring_block_rotor.toml). Both now say "inf (undamped)"; the note is for NaN only.
+  (examples/spring_block_rotor.toml). The table now says "inf" too; the note is for NaN only.
 - A response without a peak passed the separation margin with an empty limit: the summary row now
   names the rule and the swept range it looked over.
 """
@@ -79,7 +79,7 @@ def test_the_least_damped_mode_of_the_stability_row_is_named_by_its_frequency_an
     assert f"log dec {least['log_decrement']:.3g}" in row.value
 
 
-def test_an_infinite_af_is_shown_as_undamped_not_unknown():
+def test_an_infinite_af_is_shown_as_infinite_not_unknown():
     """An undamped resonance's AF is infinite (known): the AF table shows it so, and the note
     that explains unknown AFs (a half-power point beyond the sweep) is left out; an unknown AF
     still reads "unknown*" with its note."""
@@ -92,10 +92,10 @@ def test_an_infinite_af_is_shown_as_undamped_not_unknown():
     table = margins_table(margins.iloc[:1])
     rows = _rows(table)
     af = rows[0].index("AF [-]")
-    assert rows[1][af] == "inf (undamped)"
+    assert rows[1][af] == "inf"
     assert "AF unknown" not in table
     both = _rows(margins_table(margins))
-    assert [r[af] for r in both[1:]] == ["inf (undamped)", "unknown*"]
+    assert [r[af] for r in both[1:]] == ["inf", "unknown*"]
 
 
 def test_summary_and_af_table_say_the_same_of_an_undamped_peak(tmp_path):
@@ -104,11 +104,11 @@ def test_summary_and_af_table_say_the_same_of_an_undamped_peak(tmp_path):
     page = _report(tmp_path, "spring_block_rotor", "--standard", "api684", "--mcs", "3000", "--points", "31",
                    "--stiffness", "1e2:1e10:9")
     value, limit, verdict, note = _summary(page)["API 684 separation margin"]
-    assert "AF inf (undamped)" in value and verdict == "pass", value
+    assert "(AF inf)" in value and verdict == "pass", value
     section = page[page.index("Amplification factors and separation margins"):]
     rows = _rows(re.search(r"<table.*?</table>", section, re.S).group(0))
     af = rows[0].index("AF [-]")
-    assert {r[af] for r in rows[1:]} == {"inf (undamped)"}
+    assert {r[af] for r in rows[1:]} == {"inf"}
     assert "* AF unknown" not in section[:section.index("</table>") + 400]
 
 

@@ -1067,8 +1067,7 @@ def _campbell(data):
         return
     worst = judged.iloc[int(np.argmin(judged["separation_margin_pct"] - judged["required_margin_pct"]))]
     verdict = "fail" if (judged["verdict"] == "fail").any() else ("not evaluated" if unknown else "pass")
-    af = ("AF unknown" if np.isnan(worst.amplification_factor) else
-          "AF inf (undamped)" if np.isinf(worst.amplification_factor) else f"AF {worst.amplification_factor:.2f}")
+    af = "AF unknown" if np.isnan(worst.amplification_factor) else f"AF {worst.amplification_factor:.2f}"
     data.criteria.append(Criterion(
         name, f"{worst.separation_margin_pct:.1f} % ({af})",
         f">= {worst.required_margin_pct:.1f} %", verdict, "campbell",

@@ -404,12 +404,12 @@ def margins_table(margins, units: str = "si", amplitude: str = "pk-pk") -> str:
 
 
 def af_text(af: float, digits: int = 3) -> str:
-    """An amplification factor as the AF table and the summary show it: ``unknown*`` where it is
-    NaN (a half-power point beyond the sweep: the note under the table says so), ``inf
-    (undamped)`` where it is infinite (an undamped resonance: N1 = N2, known, judged against the
-    largest margin any AF requires), else ``digits`` significant digits."""
+    """An amplification factor as the AF table shows it: ``unknown*`` where it is NaN (a
+    half-power point beyond the sweep: the note under the table says so), ``inf`` where it is
+    infinite (an undamped resonance: N1 = N2, known, judged against the largest margin any AF
+    requires; the summary says ``AF inf``), else ``digits`` significant digits."""
     af = float(af)
-    return "unknown*" if np.isnan(af) else "inf (undamped)" if np.isinf(af) else f"{af:.{digits}g}"
+    return "unknown*" if np.isnan(af) else "inf" if np.isinf(af) else f"{af:.{digits}g}"
 
 
 #: under the AF table where a peak's AF is unknown (its rows "not evaluated")

@@ -626,7 +626,7 @@ def _level1(data, units) -> str:
         f"<code>modes --speed</code> gives it at the MCS in brackets where it differs). "
         f"{escape(result.verdict(units))}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
-        _qa_inputs(data.inputs.level1, units),
+        _qa_inputs(getattr(getattr(data, "inputs", None), "level1", None), units),
         _runs_table(runs, result, units, data),
         _figure(_renumbered(result.plot(**_units(units)), {run.mode: _tracked_label(data, run.mode) for run in runs
                                                             if run.mode}),

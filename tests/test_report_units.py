@@ -36,13 +36,15 @@ LBF, FT = LB * GN, 12 * 0.0254
 FACTORS = {("µm", "mil"): 1e-6 / (IN / 1000), ("µm", "in"): 1e-6 / IN, ("mm/s", "in/s"): 1e-3 / IN,
            ("m", "in"): 1 / IN, ("N", "lbf"): 1 / LBF, ("N m", "lbf in"): 1 / (LBF * IN),
            ("N/m", "lbf/in"): IN / LBF, ("kg", "lb"): 1 / LB, ("kg/m³", "lb/ft³"): FT ** 3 / LB,
-           ("MPa", "psi"): 1e6 * IN ** 2 / LBF}
+           ("MPa", "psi"): 1e6 * IN ** 2 / LBF,
+           ("W", "hp"): 1 / (550 * FT * LBF)}     # the Level I stage data (report33): 1 hp = 550 ft lbf/s
 #: units printed alike in both systems
 NEUTRAL = {"rpm", "Hz", "%", "deg", "-"}
 SI_ONLY = {si for si, _ in FACTORS} - {"m"}
 #: size of each unit in the SI unit of its kind (m, m/s, N, N/m, kg, kg/m³, Pa)
 SIZES = {"µm": 1e-6, "mm/s": 1e-3, "N": 1.0, "N/m": 1.0, "kg": 1.0, "kg/m³": 1.0, "MPa": 1e6, "mil": IN / 1000,
-         "in": IN, "in/s": IN, "lbf": LBF, "lbf/in": LBF / IN, "lb": LB, "lb/ft³": LB / FT ** 3, "psi": LBF / IN ** 2}
+         "in": IN, "in/s": IN, "lbf": LBF, "lbf/in": LBF / IN, "lb": LB, "lb/ft³": LB / FT ** 3, "psi": LBF / IN ** 2,
+         "W": 1.0, "hp": 550 * FT * LBF}
 #: each report kind's unit in SI and US (docs/report.md, "Units")
 KIND_UNITS = {"vibration": ("µm", "mil"), "velocity": ("mm/s", "in/s"), "sag": ("µm", "in"), "force": ("N", "lbf"),
               "stiffness": ("N/m", "lbf/in"), "mass": ("kg", "lb"), "density": ("kg/m³", "lb/ft³"),

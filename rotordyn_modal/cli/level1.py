@@ -189,6 +189,15 @@ def _mode_line(run, result, scale, unit) -> str:
 
 def anticipated(args, count, speed):
     """(Qa [N/m], shares per station) from --qa or the stage data."""
+    qa, shares, _ = anticipated_stages(args, count, speed)
+    return qa, shares
+
+
+def anticipated_stages(args, count, speed):
+    """(Qa [N/m], shares per station, stages) from --qa or the stage data: ``stages`` None with
+    --qa, else the formula's inputs and result per stage, SI (the report shows them, so that its
+    Qa can be checked by hand): ``{"machine": str, "power" [W], "diameter" [m], "height" [m],
+    "density_ratio" [-], "speed" [rad/s] (N_r, one value), "qa" [N/m]}``, arrays of one value a stage."""
     from ..analysis.level1 import anticipated_cross_coupling
 
     stage_options = (args.rated_power, args.impeller_diameter, args.restriction_height)
@@ -203,7 +212,7 @@ def anticipated(args, count, speed):
         values = from_system(parse_list(args.qa, "--qa"), "stiffness", args.units)
         if not np.all(values > 0):
             raise InputError(f"--qa {args.qa!r}: expected values > 0 [N/m]")
-        return _spread(values, count, "--qa")
+        return (*_spread(values, count, "--qa"), None)
     if any(o is None for o in stage_options):
         raise InputError("give --qa N/m, or --rated-power, --impeller-diameter and --restriction-height (one per "
                          "stage)")
@@ -229,7 +238,9 @@ def anticipated(args, count, speed):
         raise InputError(f"{power_option} {args.rated_power}, --impeller-diameter {args.impeller_diameter}, --restriction-height "
                          f"{args.restriction_height}{at}: give Qa = {q.max():.4g} N/m: expected at most {LARGEST_QA:g} "
                          "N/m (check their units: W, m, m, and the speed's)")
-    return _spread(q, count, "the stages")
+    stages = {"machine": args.machine, "power": power, "diameter": diameter, "height": height,
+              "density_ratio": ratio, "speed": abs(operating), "qa": q}
+    return (*_spread(q, count, "the stages"), stages)
 
 
 def _per_stage(values, stages, option):

@@ -17,7 +17,7 @@ from ..io.text import shown_text
 from ..units import from_system
 from ._common import IN_SPEED_UNIT, add_alias, add_allow_long, add_model_argument, add_output_file, as_typed, add_speed_unit, check_ending, check_extra_output, \
     mcs_option, open_model, show_progress, whole_number
-from .level1 import add_stage_arguments, anticipated, gas_density
+from .level1 import add_stage_arguments, anticipated_stages, gas_density
 from .ucs_map import _operating, _stiffness
 
 NAME = "report"
@@ -161,8 +161,9 @@ def _inputs(args):
         stations = [Station.parse(text) for text in args.station]
         if units != "si":      # ROTOR@OFFSET: the offset in in, as in 'level1'
             stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", units)) for s in stations]
-        qa, shares = anticipated(args, len(stations), mcs)
-        level1 = {"stations": stations, "qa": qa, "shares": shares, "gas_density": gas_density(args)}
+        qa, shares, stages = anticipated_stages(args, len(stations), mcs)
+        level1 = {"stations": stations, "qa": qa, "shares": shares, "gas_density": gas_density(args),
+                  "stages": stages}
     elif _level1_options(args):
         raise InputError(f"{_level1_options(args)[0]} given without --station: name where the cross-coupling acts "
                          "(with --qa or the stage data)")

@@ -77,7 +77,9 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     stations = ", ".join(s.named(units) for s in result.stations)
     heading = title or (f"API 617 Level I: {result.title}" if result.title else "API 617 Level I")
     # the verdict (with the CSR a line of some 150 characters) wrapped to the figure's width
-    ax.set_title(f"{textwrap.shorten(heading, 80)}\nat {result.speed * 30 / np.pi:.6g} rpm, Q at {stations}\n"
+    # several stations (a compressor's impellers) made one line wider than the figure: wrapped too
+    where = textwrap.fill(f"at {result.speed * 30 / np.pi:.6g} rpm, Q at {stations}", 80)
+    ax.set_title(f"{textwrap.shorten(heading, 80)}\n{where}\n"
                  f"{textwrap.fill(result.verdict(units), 80)}",
                  fontsize="medium", color="tab:red" if result.level2_required else "darkgreen")
     if own:    # below the figure: inside the axes the legend hid the criterion lines it names

@@ -1048,8 +1048,10 @@ def _campbell(data):
     table = every[every["output"].isin(_peak_outputs(data.model, response))].reset_index(drop=True)
     data.results["margins"] = table
     if table.empty:
-        data.criteria.append(Criterion(name, "no resonance peak", "", "pass", "campbell",
-                                       "no peak of the response over the sweep"))
+        speeds = np.asarray(data.inputs.speeds, dtype=float) * 30 / np.pi
+        data.criteria.append(Criterion(name, "no resonance peak", MARGIN_LIMIT, "pass", "campbell",
+                                       f"no peak of the response over the sweep, {speeds.min():.6g} to "
+                                       f"{speeds.max():.6g} rpm (the Model section's speeds): no margin to meet"))
         return
     judged = table[table["verdict"] != "not evaluated"]
     unknown = len(table) - len(judged)
@@ -1072,6 +1074,9 @@ def _campbell(data):
         f"governing peak: {worst.output} at {rpm_text(worst.speed_rpm)} rpm" + (_case(worst) or f", 1X {worst.source}")
         + note))
 
+
+#: the separation margin's limit where the response has no peak: the rule, as no peak sets a number
+MARGIN_LIMIT = "each peak's required SM"
 
 #: the summary row of the machine's stability over its operating range
 STABILITY_CRITERION = "Stability over the operating range"
@@ -1112,6 +1117,15 @@ def unstable_spans(result, thresholds, onsets, roundoff) -> list:
     return unstable_intervals(largest[0] > 0, thresholds, onsets)
 
 
+def mode_words(result, index: int, column: int) -> str:
+    """What a reader needs to find tracked mode ``column + 1`` of the Campbell sweep ``result`` at
+    its speed number ``index``: its damped natural frequency and whirl, ``20851 Hz, forward whirl``
+    (a least-damped mode may lie far above the Campbell figure's axis, e.g. a shaft's high bending
+    mode; without its frequency the summary's mode number points at nothing drawn)."""
+    frequency, whirl = float(result.frequencies_hz[index, column]), str(result.whirl[index, column])
+    return f"{frequency:.5g} Hz, " + ("no whirl" if whirl == "none" else f"{whirl} whirl")
+
+
 def _stability(data):
     """The summary row :data:`STABILITY_CRITERION`: fail where a mode grows (real part > 0 beyond
     round-off) at some speed of the operating range, naming the mode (the Campbell's number), the
@@ -1145,8 +1159,8 @@ def _stability(data):
         k = int(np.argmin(column)) if np.isfinite(column).any() else None
         onset = ("from the sweep's first speed, " + rpm_text(result.speeds[0] * rpm) + " rpm" if np.isnan(start)
                  else f"from {rpm_text(start * rpm)} rpm")
-        least = f"; its least log decrement there at {rpm_text(result.speeds[in_range][k] * rpm)} rpm" \
-            if k is not None else ""
+        least = (f"; its least log decrement there at {rpm_text(result.speeds[in_range][k] * rpm)} rpm "
+                 f"({mode_words(result, np.flatnonzero(in_range)[k], mode - 1)})" if k is not None else "")
         data.criteria.append(Criterion.of(
             STABILITY_CRITERION, "fail", "campbell",
             f"mode {mode} (Campbell diagram's number) unstable {onset} ({where}){least}; a linear model with a "
@@ -1166,7 +1180,8 @@ def _stability(data):
     data.criteria.append(Criterion.of(
         STABILITY_CRITERION, "pass", "campbell",
         f"no mode grows over the {where}; least damped{undamped}: mode {int(result.modes[column])} (Campbell diagram's "
-        f"number) at {rpm_text(result.speeds[in_range][k] * rpm)} rpm{later}",
+        f"number; {mode_words(result, np.flatnonzero(in_range)[k], column)}) at "
+        f"{rpm_text(result.speeds[in_range][k] * rpm)} rpm{later}",
         value=f"log dec {log_dec[k, column]:.3g} (mode {int(result.modes[column])})", limit="log dec >= 0"))
 
 

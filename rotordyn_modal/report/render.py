@@ -14,7 +14,7 @@ import numpy as np
 
 from ..analysis.unbalance_checks import sensor_groups
 from ..unbalance_standards import amplitude_factor, amplitude_label, largest_margins_text
-from ..units import check_system
+from ..units import check_system, unit_scale
 from .collect import (AMPLITUDE_WORDS, LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, UCS_STIFFNESS, from_pkpk,
                       shown_scale)
 
@@ -394,13 +394,22 @@ def margins_table(margins, units: str = "si", amplitude: str = "pk-pk") -> str:
     to_vibration, vibration = shown_scale("vibration", units)
     to_vibration *= amplitude_factor(amplitude)                     # the table holds 0-peak amplitudes
     rows = [[r.output, r.case if has_case else r.source, _g(r.speed_rpm, 6), _g(r.amplitude * to_vibration),
-             _g(r.amplification_factor, 3) or "unknown*", _g(r.separation_margin_pct, 3),
+             af_text(r.amplification_factor), _g(r.separation_margin_pct, 3),
              _g(r.required_margin_pct, 3) or "unknown*", _verdict_cell(r.verdict)] for r in margins.itertuples()]
-    unknown = not np.all(np.isfinite(np.asarray(margins["amplification_factor"], dtype=float)))
+    unknown = bool(np.any(np.isnan(np.asarray(margins["amplification_factor"], dtype=float))))
     return _table(rows, [("output", True), ("case" if has_case else "source (1X of)", True),
                          ("peak speed [rpm]", False), (f"amplitude, {amplitude_label(amplitude)} [{vibration}]", False),
                          ("AF [-]", False), ("separation margin [%]", False), ("required margin [%]", False),
                          ("verdict", True)]) + (_AF_UNKNOWN if unknown else "")
+
+
+def af_text(af: float, digits: int = 3) -> str:
+    """An amplification factor as the AF table shows it: ``unknown*`` where it is NaN (a
+    half-power point beyond the sweep: the note under the table says so), ``inf`` where it is
+    infinite (an undamped resonance: N1 = N2, known, judged against the largest margin any AF
+    requires; the summary says ``AF inf``), else ``digits`` significant digits."""
+    af = float(af)
+    return "unknown*" if np.isnan(af) else "inf" if np.isinf(af) else f"{af:.{digits}g}"
 
 
 #: under the AF table where a peak's AF is unknown (its rows "not evaluated")
@@ -617,6 +626,7 @@ def _level1(data, units) -> str:
         f"<code>modes --speed</code> gives it at the MCS in brackets where it differs). "
         f"{escape(result.verdict(units))}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
+        _qa_inputs(getattr(getattr(data, "inputs", None), "level1", None), units),
         _runs_table(runs, result, units, data),
         _figure(_renumbered(result.plot(**_units(units)), {run.mode: _tracked_label(data, run.mode) for run in runs
                                                             if run.mode}),
@@ -627,6 +637,40 @@ def _level1(data, units) -> str:
                                            "Figure: critical speed ratio against average gas density, the dividing "
                                            "line between Regions A and B (API 617 Level I; docs/standards.md).",
                                            "Critical speed ratio chart")]))
+
+
+def _qa_inputs(given, units) -> str:
+    """Where the report's Qa comes from: ``--qa`` as given, or a table of the stage data with each
+    stage's ``q_A`` and their sum, in the report's units, so that Qa can be worked by hand
+    (``given``: :attr:`ReportInputs.level1`; its ``stages``, :func:`..cli.level1.anticipated_stages`)."""
+    from ..analysis.level1 import B_COMPRESSOR, B_TURBINE
+
+    stages = (given or {}).get("stages")
+    if not stages:
+        return ("<p>Qa as given (<code>--qa</code>, or <code>level1={'qa': ...}</code> in Python), not computed "
+                "from stage data.</p>")
+    compressor = stages["machine"] == "compressor"
+    b = B_COMPRESSOR if compressor else B_TURBINE
+    power, power_unit = unit_scale("power", units)
+    length, length_unit = unit_scale("length", units)
+    stiffness, stiffness_unit = shown_scale("stiffness", units)
+    n_r = stages["speed"] * 30 / np.pi
+    rows = [[str(k + 1), _g(p * power, 6), _g(d * length, 6), _g(h * length, 6),
+             _g(r, 6) if compressor else "not used", _g(q * stiffness, 6)]
+            for k, (p, d, h, r, q) in enumerate(zip(stages["power"], stages["diameter"], stages["height"],
+                                                    stages["density_ratio"], stages["qa"]))]
+    rows.append(["sum: Qa", "", "", "", "", _g(float(np.sum(stages["qa"])) * stiffness, 6)])
+    words = (("impeller diameter D", "restriction height H (the smaller of diffuser and impeller discharge width)")
+             if compressor else ("blade pitch diameter D", "effective blade height H"))
+    return (f"<p>Anticipated cross-coupling of each {'impeller' if compressor else 'stage'} (API 617 Level I, "
+            f"{'compressor' if compressor else 'turbine'}): q<sub>A</sub> = B T / (D H)"
+            f"{' (&rho;<sub>d</sub>/&rho;<sub>s</sub>)' if compressor else ''}, T = P / &Omega;<sub>r</sub> the "
+            f"stage's torque (the standard's C P / N<sub>r</sub>, C = 60/2&pi; = 9.5493 taken exactly), B = {b:g}, "
+            f"N<sub>r</sub> = {n_r:.6g} rpm; P the rated power, {words[0]}, {words[1]} "
+            "(docs/level1_and_ucs.md).</p>"
+            + _table(rows, [("stage", True), (f"P [{power_unit}]", False), (f"D [{length_unit}]", False),
+                            (f"H [{length_unit}]", False), ("ρd/ρs [-]", False),
+                            (f"q_A [{stiffness_unit}]", False)]))
 
 
 def _renumbered(fig, labels: dict):

@@ -156,17 +156,16 @@ def _place_labels(ax, labels, first=0, count=0):
         return
     renderer = laid_out_renderer(ax.figure)
 
-    def place(touching, pairs=(), stack=()):
+    def place(touching, pairs=()):
         groups = [[k] for k in range(first)] + _touching(ax, labels[first:first + count], first, touching) \
             + [[k] for k in range(first + count, len(labels))]
-        for pair in pairs:              # two groups joined (:func:`_pair_long_leader`, :func:`_stack_long_group`)
+        for pair in pairs:              # two groups joined (:func:`_pair_long_leader`, :func:`_join_long_labels`)
             a, b = (next(g for g in groups if k in g) for k in pair)
             if a is not b:
                 a += b
                 groups.remove(b)
         anchors = [labels[g[0]][:2] for g in groups]
         texts = ["/".join(dict.fromkeys(labels[k][2] for k in sorted(g, key=lambda k: labels[k][1]))) for g in groups]
-        texts = [_stacked(t) if t in stack else t for t in texts]
         members = [[labels[k][:2] for k in g[1:]] for g in groups]
         drawn = place_point_labels(ax, anchors, texts, [labels[g[0]][3] for g in groups], renderer=renderer,
                                    members=members)
@@ -208,45 +207,32 @@ def _place_labels(ax, labels, first=0, count=0):
     _shorter_leaders(ax, drawn, [label[:2] for label in labels], _members(labels, first, count, drawn))
     if count:
         _pair_long_leader(ax, labels, first, count, drawn, place)
-        _stack_long_group(ax, labels, (first, count), drawn, place)
+        _join_long_labels(ax, labels, (first, count), drawn, place)
 
 
-#: a label naming at least this many speeds may stand on two or more lines
-_STACKED_NAMES = 2
-
-
-def _stacked(text: str) -> str:
-    """A shared label's speeds two to a line (one, of two speeds), each line but the last
-    ending in '/' (the text still splits at '/' into its speeds): '3939/3943/' over '3959/4184'."""
-    parts = text.split("/")
-    per_line = 1 if len(parts) <= 2 else 2
-    return "/\n".join("/".join(parts[k:k + per_line]) for k in range(0, len(parts), per_line))
-
-
-def _stack_long_group(ax, labels, crossings, drawn, place):
-    """Where the longest leader still exceeds :data:`_LONG_LEADER` points and its label names
-    :data:`_STACKED_NAMES` speeds or more, that label is written on lines of two speeds (a
-    narrower box finds room nearer its circles), alone or joined by the nearest other circle
-    within :data:`_NEAR` points (whose own label stood where the stack would go); kept if its
-    leader gets shorter, no other label's longer (by 0.5 point) and no more leaders cross curves
-    or circles: with every bearing of fan_on_bearings chosen, '3939/3943/3959/4184' (four
-    circles on two stiffness lines 4 points apart, between three rising curves and three bearing
-    lines) stood 42.5 points from its circles on one line, no place 19 speeds wide being free
-    nearer."""
+def _join_long_labels(ax, labels, crossings, drawn, place):
+    """Each label still more than :data:`_LONG_LEADER` points from its circles (longest first)
+    shares one with one of the :data:`_JOINED` nearest other circles within :data:`_NEAR`
+    points (whose own label stood where the shared one would go), kept if its leader gets
+    shorter, no other label's longer (by 0.5 point) and no more leaders cross curves or circles;
+    up to :data:`_ROUNDS` times (a label joined frees a place for another). With every bearing of
+    fan_on_bearings chosen, '3939/3943/3959/4184' (four circles on two stiffness lines 4 points
+    apart, between three rising curves and three bearing lines) stood 42.5 points from its
+    circles; joined by '3608' (its circle 4 points below), '3608/3939/3943/3959/4184' stands
+    7.7 points below them, where '3608' stood."""
     for _ in range(_ROUNDS):
         before = _leader_lengths(ax, drawn)
-        if not any(_stack_one(ax, labels, crossings, drawn, place, (text, before))
-                   for text in sorted(before, key=before.get, reverse=True)
-                   if before[text] > _LONG_LEADER and "\n" not in text):
+        if not any(_join_one(ax, labels, crossings, drawn, place, (text, before))
+                   for text in sorted(before, key=before.get, reverse=True) if before[text] > _LONG_LEADER):
             return
 
 
-#: :func:`_stack_long_group` looks again this many times (a stack made frees a place for another)
+#: :func:`_join_long_labels` looks again this many times
 _ROUNDS = 3
 
 
-def _stack_one(ax, labels, crossings, drawn, place, lengths) -> bool:
-    """One try of :func:`_stack_long_group` for the label ``text`` (``lengths``: (text, each
+def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
+    """One try of :func:`_join_long_labels` for the label ``text`` (``lengths``: (text, each
     label's leader [points])): True if kept."""
     first, count = crossings
     text, before = lengths
@@ -257,36 +243,32 @@ def _stack_one(ax, labels, crossings, drawn, place, lengths) -> bool:
     touching, pairs = owner.ucs_grouping
     circles = [label[:2] for label in labels[first:first + count]]
     crossing = _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
-    alone = [None] if len(text.split("/")) >= _STACKED_NAMES else []
-    for joined in alone + _nearest_others(ax, labels, (first, count), owner.ucs_indices):
+    for joined in _nearest_others(ax, labels, (first, count), owner.ucs_indices):
         for t in drawn:
             t.set_visible(False)
-        group = owner.ucs_indices + ([] if joined is None else [joined])
-        stack = "/".join(dict.fromkeys(labels[k][2] for k in sorted(group, key=lambda k: labels[k][1])))
-        kept = {t.get_text().replace("\n", "") for t in drawn if "\n" in t.get_text()}     # stacked before
-        stacked, _ = place(touching, pairs if joined is None else pairs + ((joined, owner.ucs_indices[0]),),
-                           kept | {stack})
-        _shorter_leaders(ax, stacked, [label[:2] for label in labels], _members(labels, first, count, stacked))
-        through = _crossing_leaders(ax, stacked, _members(labels, first, count, stacked), circles)
-        after = _leader_lengths(ax, stacked)
-        mine = [label for label in after if label == _stacked(stack)]
-        named = {part.strip(): length for label, length in before.items() for part in label.split("/")}
-        fair = all(length <= max(named.get(part.strip(), 0.0) for part in label.split("/")) + 0.5
-                   for label, length in after.items() if label not in mine)
-        if mine and max(after[label] for label in mine) < longest and fair and through[0] <= crossing[0] \
+        group = owner.ucs_indices + [joined]
+        shared = "/".join(dict.fromkeys(labels[k][2] for k in sorted(group, key=lambda k: labels[k][1])))
+        tried, _ = place(touching, pairs + ((joined, owner.ucs_indices[0]),))
+        _shorter_leaders(ax, tried, [label[:2] for label in labels], _members(labels, first, count, tried))
+        through = _crossing_leaders(ax, tried, _members(labels, first, count, tried), circles)
+        after = _leader_lengths(ax, tried)
+        named = {part: length for label, length in before.items() for part in label.split("/")}
+        fair = all(length <= max(named.get(part, 0.0) for part in label.split("/")) + 0.5
+                   for label, length in after.items() if label != shared)
+        if after.get(shared, np.inf) < longest and fair and through[0] <= crossing[0] \
                 and sum(through) <= sum(crossing):
             for t in drawn:
                 t.remove()
-            drawn[:] = stacked
+            drawn[:] = tried
             return True
-        for t in stacked:
+        for t in tried:
             t.remove()
         for t in drawn:
             t.set_visible(True)
     return False
 
 
-#: how many of the nearest other circles :func:`_stack_long_group` tries to join
+#: how many of the nearest other circles :func:`_join_long_labels` tries to join
 _JOINED = 2
 
 
@@ -367,8 +349,7 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
 def _members(labels, first, count, drawn) -> dict:
     """Each crossing label's text -> the points (data coordinates) of the speeds it names."""
     where = {labels[k][2]: labels[k][:2] for k in range(first, first + count)}
-    return {t.get_text(): [where[part.strip()] for part in t.get_text().split("/") if part.strip() in where]
-            for t in drawn}
+    return {t.get_text(): [where[part] for part in t.get_text().split("/") if part in where] for t in drawn}
 
 
 def _leader_lengths(ax, drawn) -> dict:

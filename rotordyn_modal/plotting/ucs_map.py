@@ -48,6 +48,7 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     -------
     matplotlib.figure.Figure
     """
+    own = ax is None
     fig, ax = new_figure(ax, figsize=(8.5, 6.0))
     scale, unit = unit_scale("stiffness", units)
     k = result.stiffness * scale
@@ -75,13 +76,50 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     operating = _draw_operating(ax, result.operating, k[0])
     ax.grid(True, which="both", alpha=0.25)
     ax.set_xlabel(f"Bearing radial stiffness, each chosen bearing [{unit}]")
-    ax.set_ylabel("Undamped critical speed (forward, 1X of the reference rotor) [rpm]")
+    # two lines: on one the label was taller than the axes and ran into the title ('[rpm]')
+    ax.set_ylabel("Undamped critical speed [rpm]\n(forward, 1X of the reference rotor)")
     ax.set_title(fitted_title(fig, title or (f"Undamped critical speed map: {result.title}" if result.title
                                              else "Undamped critical speed map"), 0.8, "medium"), fontsize="medium")
-    # below the axes: inside, it covered curves and the labels placed among them
-    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1), ncols=3, frameon=False)
+    _legend_below(ax, own)
     _place_labels(ax, inside + crossings + operating, len(inside), len(crossings))
     return fig
+
+
+#: the legend's distance [points] below the x axis's label (a figure of its own)
+_LEGEND_GAP = 4.0
+
+
+def _legend_below(ax, own: bool):
+    """The legend below the axes (inside, it covered curves and the labels placed among them).
+
+    On a figure of its own (``own``) the legend stands at the figure's foot, centred on the
+    figure, in three columns (two, or one, where three are wider than the figure) and left out
+    of the layout, which keeps its height free below the axes: the axes' width then does not
+    depend on the legend's text (centred under the axes and kept in the layout, the US legend's
+    'lbf/in' entries narrowed motor_pump_on_mounts' axes from 567 to 418 pixels at 150 dpi, and
+    its crossings' labels were grouped and placed otherwise than in SI). A legend wider than the
+    figure in one column, or axes given by the caller, keep the legend in the layout under the
+    axes.
+    """
+    options = {"fontsize": "x-small", "loc": "upper center", "bbox_to_anchor": (0.5, -0.1), "frameon": False}
+    if not own:
+        ax.legend(ncols=3, **options)
+        return
+    fig = ax.figure
+    renderer = fig.canvas.get_renderer()
+    for columns in (3, 2, 1):
+        legend = ax.legend(ncols=columns, **options)
+        box = legend.get_window_extent(renderer)
+        if box.width <= fig.bbox.width:
+            break
+    else:
+        ax.legend(ncols=3, **options)
+        return
+    legend.set_bbox_to_anchor((0.5, 0.0), transform=fig.transFigure)
+    legend.set_loc("lower center")
+    legend.set_in_layout(False)
+    height = (box.height + _LEGEND_GAP * fig.dpi / 72.0) / fig.bbox.height
+    fig.get_layout_engine().set(rect=(0.0, height, 1.0, 1.0 - height))
 
 
 #: an operating range narrower than this ratio of its speeds (a single rated speed, LO = HI) is
@@ -118,10 +156,10 @@ def _place_labels(ax, labels, first=0, count=0):
         return
     renderer = laid_out_renderer(ax.figure)
 
-    def place(touching, pair=None):
+    def place(touching, pairs=()):
         groups = [[k] for k in range(first)] + _touching(ax, labels[first:first + count], first, touching) \
             + [[k] for k in range(first + count, len(labels))]
-        if pair is not None:            # two groups joined (:func:`_pair_long_leader`)
+        for pair in pairs:              # two groups joined (:func:`_pair_long_leader`, :func:`_join_long_labels`)
             a, b = (next(g for g in groups if k in g) for k in pair)
             if a is not b:
                 a += b
@@ -133,6 +171,8 @@ def _place_labels(ax, labels, first=0, count=0):
                                    members=members)
         for text in drawn:
             _lead_to_nearest(ax, text, members[texts.index(text.get_text())], renderer)
+            text.ucs_grouping = (touching, tuple(pairs))      # how the kept labels were grouped
+            text.ucs_indices = groups[texts.index(text.get_text())]
         return drawn, _crossing_leaders(ax, drawn, {t: m for t, m in zip(texts, members)}, circles)
 
     circles = [c[:2] for c in labels[first:first + count]]
@@ -164,9 +204,93 @@ def _place_labels(ax, labels, first=0, count=0):
             for text in wider:
                 text.remove()
             drawn, crossing = place(_TOUCHING)
-    _shorter_leaders(ax, drawn, [label[:2] for label in labels])
+    _shorter_leaders(ax, drawn, [label[:2] for label in labels], _members(labels, first, count, drawn))
     if count:
         _pair_long_leader(ax, labels, first, count, drawn, place)
+        _join_long_labels(ax, labels, (first, count), drawn, place)
+
+
+def _join_long_labels(ax, labels, crossings, drawn, place):
+    """Each label still more than :data:`_LONG_LEADER` points from its circles (longest first)
+    shares one with one of the :data:`_JOINED` nearest other circles within :data:`_NEAR`
+    points (whose own label stood where the shared one would go), kept if its leader gets
+    shorter, no other label's longer (by 0.5 point) and no more leaders cross curves or circles;
+    up to :data:`_ROUNDS` times (a label joined frees a place for another). With every bearing of
+    fan_on_bearings chosen, '3939/3943/3959/4184' (four circles on two stiffness lines 4 points
+    apart, between three rising curves and three bearing lines) stood 42.5 points from its
+    circles; joined by '3608' (its circle 4 points below), '3608/3939/3943/3959/4184' stands
+    7.7 points below them, where '3608' stood."""
+    for _ in range(_ROUNDS):
+        before = _leader_lengths(ax, drawn)
+        if not any(_join_one(ax, labels, crossings, drawn, place, (text, before))
+                   for text in sorted(before, key=before.get, reverse=True) if before[text] > _LONG_LEADER):
+            return
+
+
+#: :func:`_join_long_labels` looks again this many times
+_ROUNDS = 3
+
+
+def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
+    """One try of :func:`_join_long_labels` for the label ``text`` (``lengths``: (text, each
+    label's leader [points])): True if kept."""
+    first, count = crossings
+    text, before = lengths
+    longest = before[text]
+    owner = next(t for t in drawn if t.get_text() == text)
+    if not hasattr(owner, "ucs_indices"):
+        return False
+    touching, pairs = owner.ucs_grouping
+    circles = [label[:2] for label in labels[first:first + count]]
+    crossing = _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
+    for joined in _nearest_others(ax, labels, (first, count), owner.ucs_indices):
+        for t in drawn:
+            t.set_visible(False)
+        group = owner.ucs_indices + [joined]
+        shared = "/".join(dict.fromkeys(labels[k][2] for k in sorted(group, key=lambda k: labels[k][1])))
+        tried, _ = place(touching, pairs + ((joined, owner.ucs_indices[0]),))
+        _shorter_leaders(ax, tried, [label[:2] for label in labels], _members(labels, first, count, tried))
+        through = _crossing_leaders(ax, tried, _members(labels, first, count, tried), circles)
+        after = _leader_lengths(ax, tried)
+        named = {part: length for label, length in before.items() for part in label.split("/")}
+        fair = all(length <= max(named.get(part, 0.0) for part in label.split("/")) + 0.5
+                   for label, length in after.items() if label != shared)
+        if after.get(shared, np.inf) < longest and fair and through[0] <= crossing[0] \
+                and sum(through) <= sum(crossing):
+            for t in drawn:
+                t.remove()
+            drawn[:] = tried
+            return True
+        for t in tried:
+            t.remove()
+        for t in drawn:
+            t.set_visible(True)
+    return False
+
+
+#: how many of the nearest other circles :func:`_join_long_labels` tries to join
+_JOINED = 2
+
+
+def _nearest_others(ax, labels, crossings, indices) -> list:
+    """The crossings (indices into ``labels``) whose circles lie nearest those of ``indices``,
+    not among them, within :data:`_NEAR` points at :data:`SAVED_DPI`: :data:`_JOINED` at most,
+    nearest first."""
+    first, count = crossings
+    fig = ax.figure
+    dpi = fig.get_dpi()
+    fig.set_dpi(SAVED_DPI)
+    try:
+        centres = ax.transData.transform(np.array([labels[k][:2] for k in range(first, first + count)], float))
+    finally:
+        fig.set_dpi(dpi)
+    mine = np.isin(np.arange(first, first + count), indices)
+    if mine.all() or not mine.any():
+        return []
+    distance = np.hypot(*(centres[:, None] - centres[mine][None]).transpose(2, 0, 1)).min(axis=1) * 72.0 / SAVED_DPI
+    distance[mine] = np.inf
+    order = np.argsort(distance, kind="stable")[:_JOINED]
+    return [first + int(k) for k in order if distance[k] < _NEAR]
 
 
 def _pair_long_leader(ax, labels, first, count, drawn, place):
@@ -204,8 +328,8 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
     crossing = _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
     for t in drawn:
         t.set_visible(False)
-    paired, _ = place(_TOUCHING, (first + own, first + other))
-    _shorter_leaders(ax, paired, [label[:2] for label in labels])
+    paired, _ = place(_TOUCHING, ((first + own, first + other),))
+    _shorter_leaders(ax, paired, [label[:2] for label in labels], _members(labels, first, count, paired))
     through = _crossing_leaders(ax, paired, _members(labels, first, count, paired), circles)
     after = _leader_lengths(ax, paired)
     named = {part: length for label, length in before.items() for part in label.split("/")}
@@ -278,14 +402,15 @@ _STEP_POINTS = 1.5
 _CLEAR_POINTS, _LINE_POINTS = 1.0, 1.0
 
 
-def _shorter_leaders(ax, drawn, points):
+def _shorter_leaders(ax, drawn, points, members=None):
     """Move each label of ``drawn`` whose leader is longer than :data:`_SHORT_LEADER` to the
     free place nearest its point (the fan's '3645' and '3394', three circles on one stiffness
     line, stood 41 and 19 points away down the brown curve, '4184' 17 points away while a
     place beside its circle was free): a place inside the axes, clear of every other text, of
     the circles and squares drawn (``points``: the labelled points, data coordinates) and of
-    every line, whose leader crosses no line outside the point's own circle, no other leader and
-    no other circle. Measured on the figure laid out at :data:`SAVED_DPI`; a label with no
+    every line, whose leader crosses no line outside the point's own circle, no other leader,
+    no other label and no other circle. A label naming several circles (``members``: text ->
+    their points, :func:`_members`) may lead to any of them, its leader crossing lines inside any. Measured on the figure laid out at :data:`SAVED_DPI`; a label with no
     nearer place stays where :func:`_place_labels` put it."""
     from matplotlib.text import Text
 
@@ -316,11 +441,21 @@ def _shorter_leaders(ax, drawn, points):
             leaders = [np.r_[_nearest(b, ax.transData.transform(t.xy)), ax.transData.transform(t.xy)]
                        for t, b in ((t, np.array(Text.get_window_extent(t, renderer).extents)) for t in drawn)
                        if t is not text]
-            place = _nearer_place(box, anchor, length, (frame, segments, centres, radius, scale), others, leaders,
-                                  (crosses_any, crosses_segments))
-            if place is not None:
+            named = [tuple(text.xy)] + [tuple(p) for p in (members or {}).get(text.get_text(), [])
+                                        if tuple(p) != tuple(text.xy)]
+            group = ax.transData.transform(np.asarray(named, float))
+            best = None
+            for point, target in zip(named, group):     # a shared label may lead to any of its circles
+                place = _nearer_place(box, target, length, (frame, segments, centres, radius, scale), others,
+                                      leaders, (crosses_any, crosses_segments), group)
+                if place is not None:
+                    length = np.hypot(*(_nearest(place, target) - target))
+                    best = (point, target, place)
+            if best is not None:
+                point, anchor, place = best
                 w, h = box[2] - box[0], box[3] - box[1]
                 end = _nearest(place, anchor)
+                text.xy = point
                 text.xyann = ((place[0] - anchor[0]) / scale, (place[1] - anchor[1]) / scale)
                 text.arrowprops["relpos"] = ((end[0] - place[0]) / w, (end[1] - place[1]) / h)
     finally:
@@ -332,9 +467,11 @@ def _nearest(box, point):
     return np.array([min(max(point[0], box[0]), box[2]), min(max(point[1], box[1]), box[3])])
 
 
-def _nearer_place(box, anchor, length, scene, others, leaders, tests):
+def _nearer_place(box, anchor, length, scene, others, leaders, tests, group=None):
     """The box of ``box``'s size nearest ``anchor`` (its leader shorter than ``length`` by a
-    step at least) that is free (:func:`_shorter_leaders`), or None; all in pixels."""
+    step at least) that is free (:func:`_shorter_leaders`), or None; all in pixels. ``group``
+    (k, 2): the points the label names (``anchor`` among them), inside whose circles its leader
+    may cross lines."""
     frame, segments, centres, radius, scale = scene
     crosses_any, crosses_segments = tests
     w, h = box[2] - box[0], box[3] - box[1]
@@ -347,7 +484,8 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests):
     distance = np.hypot(*(near - anchor).T)
     order = np.argsort(distance, kind="stable")
     order = order[distance[order] <= length - step]
-    own = np.hypot(*(centres - anchor).T) <= radius
+    group = np.reshape(anchor if group is None else group, (-1, 2))
+    own = np.hypot(*(centres[:, None] - group[None]).transpose(2, 0, 1)).min(axis=1) <= radius
     markers = np.column_stack([centres - radius - clear, centres + radius + clear])
     for i in order:
         place = np.r_[grid[i], grid[i] + (w, h)]
@@ -362,10 +500,11 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests):
         if len(centres[~own]) and np.hypot(*(np.clip(centres[~own], place[:2], place[2:]) - centres[~own]).T).min() \
                 <= distance[i]:
             continue                  # nearer another point than its own: it would name that one
-        if crosses_segments(start, anchor, leaders):
+        if crosses_segments(start, anchor, leaders) or any(_leader_through(start, anchor, b) for b in others):
             continue
         hits = _meets(start, anchor, segments) if len(segments) else np.zeros((0, 2))
-        if np.any(np.hypot(*(hits - anchor).T) > radius + 0.5):
+        if len(hits) and np.any(np.hypot(*(hits[:, None] - group[None]).transpose(2, 0, 1)).min(axis=1)
+                                > radius + 0.5):
             continue
         way = anchor - start
         t = np.clip((centres[~own] - start) @ way / max(float(way @ way), 1e-12), 0.0, 1.0)
@@ -373,6 +512,14 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests):
             continue
         return place
     return None
+
+
+def _leader_through(start, end, box) -> bool:
+    """Whether the segment ``start -> end`` passes through ``box`` (x0, y0, x1, y1) [pixels]:
+    a leader drawn over another label."""
+    from ._labels import segment_crosses_box
+
+    return bool(segment_crosses_box(start, end, box))
 
 
 def _overlap(a, b):

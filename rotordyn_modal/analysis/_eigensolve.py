@@ -984,7 +984,7 @@ def _singles_polished(values, shapes, bound, polished, which, mass, damping, sti
     complex ones whose steps did not converge.
 
     A real root (a relaxation of rubber mounts, an overdamped root) is kept on the real axis, its
-    error left at least its polished imaginary part (relative), where its steps converge within
+    error left the polish's plus its polished imaginary part (relative), where its steps converge within
     :data:`_REAL_REACH` times its bound of its start, nearer it than any other root's start (not
     another root's), and not at a Maxwell branch's pole (a root of the branches' own states, which
     no step on the pencil reaches: left as it is). Until roots33 each real root was polished alone,
@@ -1004,7 +1004,7 @@ def _singles_polished(values, shapes, bound, polished, which, mass, damping, sti
         start = values_in[a].real
         near = abs(root - start) <= _REAL_REACH * bound[a] * abs(start)
         done[j] = bool(near and np.argmin(np.abs(values_in - root)) == a)
-        left[j] = max(left[j], abs(found[j].imag) / abs(root)) if root != 0 else np.inf
+        left[j] = left[j] + abs(found[j].imag) / abs(root) if root != 0 else np.inf
         found[j] = root + 0j
     values[which[done]], shapes[which[done]], bound[which[done]] = found[done], found_shapes[done], left[done]
     polished[which[done]] = True
@@ -1017,7 +1017,7 @@ def _real_cluster(values, shapes, bound, run, found, defective) -> bool:
     polished into ``found`` (roots, shapes, error left), written in place on the real axis; returns
     whether it was (each polished root within :data:`_REAL_REACH` times its bound of its start).
 
-    Each root is the real part of its polished root; its error left at least that root's
+    Each root is the real part of its polished root; its error left the polish's plus that root's
     imaginary part (relative): the truth is then a conjugate pair whose damping ratio is 1 to about
     1e-17, a relaxation as the table counts it, which the polish locates exactly and the real axis
     holds to its imaginary part. A pair with nearly parallel shapes (``defective``, one defective
@@ -1035,7 +1035,7 @@ def _real_cluster(values, shapes, bound, run, found, defective) -> bool:
     out, each = roots.copy(), np.full(len(run), float(left))
     if defective:
         _one_defective_root(out, each, np.arange(2))
-    each = np.maximum(each, np.abs(out.imag) / np.abs(out))
+    each = each + np.abs(out.imag) / np.abs(out)         # the triangle: its polished error and the axis's
     values[run], shapes[run], bound[run] = out.real + 0j, found_shapes, each
     return True
 

@@ -876,7 +876,10 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
     :func:`._lowest_newton.pair_polished`: block Newton steps with the residual's stiffness term
     summed exactly; on a sparse pencil :func:`sparse_block_polished`), the single roots all at once
     (:func:`single_roots_polished`: the same steps for one root, its shape's phase kept, every
-    root's residual in one product); every root of a well-conditioned machine untouched. Those over
+    root's residual in one product; the real ones with them, kept on the real axis,
+    :func:`_singles_polished`), a run of real roots closer than their round-off as a cluster
+    (:func:`_real_cluster`: a conjugate pair the solve snapped to the real axis); every root of a
+    well-conditioned machine untouched. Those over
     :data:`INEXACT_LEVEL` first, then the others, each lowest first, within :func:`polish_budget` a
     speed (:func:`._polish_plan.run_work`: a single root 0.2 of a root's :func:`polish_work`, a
     root on a sparse pencil 0.02 of a solve; a small machine's, or a sparse one's, every root over
@@ -908,7 +911,7 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
     polish could not converge keeps its bound; so do both roots of a pair it could not separate)
     """
     bound = np.array(bound, dtype=float)
-    # a real root (a relaxation) too, one at a time (below), not a zero root
+    # a real root (a relaxation) too, with the single complex roots (below), not a zero root
     wanted = np.flatnonzero((bound > POLISH_LEVEL) & (np.asarray(values).imag >= 0) & (np.asarray(values) != 0))
     if not len(wanted):
         return bound
@@ -1214,22 +1217,52 @@ def _gathered_products(patterns, X, low, wide):
     """``M X``, ``D X`` and ``K X`` (n, k) each, in the complex precision ``wide``, of ``X + low``
     (n, k) (a double-double) and the dense matrices whose :func:`_row_pattern` are ``patterns``:
     ``K X`` summed exactly (:func:`_gathered_sums`; a low mode's smooth shape against a stiff
-    element cancels its terms by up to 1e12), ``K low``, ``M X`` and ``D X`` in ``wide``."""
+    element cancels its terms by up to 1e12), ``K low``, ``M X`` and ``D X`` in ``wide``. The rows
+    go in groups of like width (:func:`_width_groups`), each padded to its own widest row."""
     n, k = X.shape
     (mc, mv), (dc, dv), (kc, kv) = patterns[:3]
-    width = max(mc.shape[1], dc.shape[1], kc.shape[1])
     real = np.real(np.zeros(1, wide)).dtype
     Xw, lw = X.astype(wide) + low.astype(wide), low.astype(wide)
     parts = np.concatenate([X.real, X.imag], axis=1)        # (n, 2k)
     out = [np.empty((n, k), wide) for _ in range(3)]
-    # the gathered (r, w, k) terms of a part of the rows at a time (a dense pencil: w = n)
-    for rows in _batches.chunk_slices(n, _GATHER_BYTES * width * k, budget=_batches._PART_BYTES):
-        out[0][rows] = np.einsum("rw,rwk->rk", mv[rows].astype(real), Xw[mc[rows]])
-        out[1][rows] = np.einsum("rw,rwk->rk", dv[rows].astype(real), Xw[dc[rows]])
-        exact = _gathered_sums(kv[rows], parts[kc[rows]])
-        out[2][rows] = np.einsum("rw,rwk->rk", kv[rows].astype(real), lw[kc[rows]]) \
-            + (exact[:, :k] + 1j * exact[:, k:]).astype(wide)
+    for group, (wm, wd, wk) in _width_groups(patterns[:3]):
+        width = max(wm, wd, wk)
+        # the gathered (r, w, k) terms of a part of the group's rows at a time (a dense pencil: w = n)
+        for part in _batches.chunk_slices(len(group), _GATHER_BYTES * width * k, budget=_batches._PART_BYTES):
+            rows = group[part]
+            out[0][rows] = np.einsum("rw,rwk->rk", mv[rows, :wm].astype(real), Xw[mc[rows, :wm]])
+            out[1][rows] = np.einsum("rw,rwk->rk", dv[rows, :wd].astype(real), Xw[dc[rows, :wd]])
+            exact = _gathered_sums(kv[rows, :wk], parts[kc[rows, :wk]])
+            out[2][rows] = np.einsum("rw,rwk->rk", kv[rows, :wk].astype(real), lw[kc[rows, :wk]]) \
+                + (exact[:, :k] + 1j * exact[:, k:]).astype(wide)
     return out
+
+
+def _width_groups(patterns):
+    """The rows of :func:`_row_pattern`'s ``patterns`` (of ``M``, ``D``, ``K``) in groups, each with
+    the widths (three ints) its rows need of each pattern: all rows at the patterns' own widths,
+    but where a few rows are far wider than the rest (a casing's rows, coupled to every rotor:
+    padded to them, every row of a machine of 448 coordinates cost as a full one, a single root's
+    polish about one eigen-solve of the speed), the rows up to :data:`_WIDE_ROW` times the 90th
+    percentile's width apart from the wider ones."""
+    counts = np.stack([np.count_nonzero(values, axis=1) for _, values in patterns])      # (3, n)
+    widths = [values.shape[1] for _, values in patterns]
+    n = counts.shape[1]
+    rows = counts.max(axis=0)
+    limit = _WIDE_ROW * max(1.0, float(np.percentile(rows, 90))) if n else 0.0
+    if not n or rows.max() <= limit:
+        return [(np.arange(n), widths)]
+    narrow = rows <= limit
+    groups = []
+    for chosen in (narrow, ~narrow):
+        index = np.flatnonzero(chosen)
+        groups.append((index, [max(1, int(c[index].max())) for c in counts]))
+    return groups
+
+
+#: how many times the 90th percentile's row width a row may be before :func:`_width_groups` takes
+#: the wider rows apart
+_WIDE_ROW = 4.0
 
 
 def sparse_block_polished(mass, damping, stiffness, roots, shapes):

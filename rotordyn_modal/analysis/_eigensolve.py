@@ -876,7 +876,10 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
     :func:`._lowest_newton.pair_polished`: block Newton steps with the residual's stiffness term
     summed exactly; on a sparse pencil :func:`sparse_block_polished`), the single roots all at once
     (:func:`single_roots_polished`: the same steps for one root, its shape's phase kept, every
-    root's residual in one product); every root of a well-conditioned machine untouched. Those over
+    root's residual in one product; the real ones with them, kept on the real axis,
+    :func:`_singles_polished`), a run of real roots closer than their round-off as a cluster
+    (:func:`_real_cluster`: a conjugate pair the solve snapped to the real axis); every root of a
+    well-conditioned machine untouched. Those over
     :data:`INEXACT_LEVEL` first, then the others, each lowest first, within :func:`polish_budget` a
     speed (:func:`._polish_plan.run_work`: a single root 0.2 of a root's :func:`polish_work`, a
     root on a sparse pencil 0.02 of a solve; a small machine's, or a sparse one's, every root over
@@ -908,7 +911,7 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
     polish could not converge keeps its bound; so do both roots of a pair it could not separate)
     """
     bound = np.array(bound, dtype=float)
-    # a real root (a relaxation) too, one at a time (below), not a zero root
+    # a real root (a relaxation) too, with the single complex roots (below), not a zero root
     wanted = np.flatnonzero((bound > POLISH_LEVEL) & (np.asarray(values).imag >= 0) & (np.asarray(values) != 0))
     if not len(wanted):
         return bound
@@ -925,16 +928,18 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
     # budget is spent lowest first)
     runs.sort(key=lambda run: (not np.any(bound[run] > INEXACT_LEVEL), bool(np.any(values[run].imag == 0))))
     sparse = branches is None and _sparse(mass, damping, stiffness)
-    singles = []       # the single complex roots the budget takes, polished at once after the loop
+    singles = []       # the single roots the budget takes (complex and real), polished at once after the loop
     for run in runs:
-        if len(run) == 1 and values[run[0]].imag != 0:
+        if len(run) == 1:
             work = run_work(1, n, sparse)
             if spent + work <= budget:
                 spent += work
                 singles.append(run[0])
             continue
-        alone = bool(values[run[0]].imag == 0)       # real arithmetic, one at a time: a quarter of a complex root's
-        work = len(run) * polish_work(1, n) / 4.0 if alone else run_work(len(run), n, sparse)
+        # real roots closer than their round-off: a conjugate pair the solve snapped to the real axis,
+        # or a double real root; polished as a cluster (complex arithmetic), kept on the real axis
+        alone = bool(values[run[0]].imag == 0)
+        work = run_work(len(run), n, sparse)
         if spent + work > budget:      # left as the solve gave it (warned of, with its bound), but for
             # a defective double root split by round-off: the split's mean, at no cost
             if len(run) == 2 and not alone and _defective_mean(values, shapes, bound, run, mass, damping, stiffness,
@@ -944,25 +949,21 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
                     shapes[run] = resolve_repeated(values[run][None], shapes[run][None], forms,
                                                    None if variant is None else np.array([variant]), groups=False)[0]
             continue
-        if alone:      # each kept where it is its own
-            spent += work
-            starts = values.copy()
-            for a in run:
-                polished[a] = _real_root_polished(values, shapes, bound, a, starts, mass, damping, stiffness, branches)
+        spent += work
+        defective = len(run) == 2 and _parallel(shapes[run[0]], shapes[run[1]])
+        found = _cluster_polished(mass, damping, stiffness, values[run], shapes[run], branches)
+        if found is None:
             continue
-        if len(run) > 1:
-            spent += work
-            defective = len(run) == 2 and _parallel(shapes[run[0]], shapes[run[1]])
-            found = _cluster_polished(mass, damping, stiffness, values[run], shapes[run], branches)
-            if found is not None:
-                values[run], shapes[run], bound[run] = found
-                polished[run] = True
-                if defective:
-                    _one_defective_root(values, bound, run)
-                if forms is not None and len(run) == 2:
-                    shapes[run] = resolve_repeated(values[run][None], shapes[run][None], forms,
-                                                   None if variant is None else np.array([variant]), groups=False)[0]
+        if alone:
+            polished[run] = _real_cluster(values, shapes, bound, run, found, defective)
             continue
+        values[run], shapes[run], bound[run] = found
+        polished[run] = True
+        if defective:
+            _one_defective_root(values, bound, run)
+        if forms is not None and len(run) == 2:
+            shapes[run] = resolve_repeated(values[run][None], shapes[run][None], forms,
+                                           None if variant is None else np.array([variant]), groups=False)[0]
     for a in _singles_polished(values, shapes, bound, polished, np.array(singles, dtype=int), mass, damping,
                                stiffness, branches):
         # a single root whose steps did not converge: a neighbour near its round-off (a gap of a
@@ -981,16 +982,65 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
 
 
 def _singles_polished(values, shapes, bound, polished, which, mass, damping, stiffness, branches=None):
-    """:func:`refined_pairs`'s single complex roots ``which`` (indices) polished in place by
-    :func:`single_roots_polished`, ``polished`` (m,) set where they were; returns those whose steps
-    did not converge."""
+    """:func:`refined_pairs`'s single roots ``which`` (indices), complex and real, polished in place
+    at once by :func:`single_roots_polished`, ``polished`` (m,) set where they were; returns the
+    complex ones whose steps did not converge.
+
+    A real root (a relaxation of rubber mounts, an overdamped root) is kept on the real axis, its
+    error left the polish's plus its polished imaginary part (relative), where its steps converge within
+    :data:`_REAL_REACH` times its bound of its start, nearer it than any other root's start (not
+    another root's), and not at a Maxwell branch's pole (a root of the branches' own states, which
+    no step on the pencil reaches: left as it is). Until roots33 each real root was polished alone,
+    in real arithmetic, after the complex ones."""
+    values_in = np.asarray(values).copy()
+    real = values_in[which].imag == 0
+    if branches is not None and real.any():
+        times = np.asarray(branches[1], dtype=float)
+        at_pole = real & np.any(np.abs(1.0 + values_in[which].real[:, None] * times[None, :]) <= _POLE, axis=1)
+        which, real = which[~at_pole], real[~at_pole]
     if not len(which):
         return which
     found, found_shapes, left = single_roots_polished(mass, damping, stiffness, values[which], shapes[which], branches)
     done = np.isfinite(left)
+    for j in np.flatnonzero(done & real):
+        a, root = which[j], found[j].real
+        start = values_in[a].real
+        near = abs(root - start) <= _REAL_REACH * bound[a] * abs(start)
+        done[j] = bool(near and np.argmin(np.abs(values_in - root)) == a)
+        left[j] = left[j] + abs(found[j].imag) / abs(root) if root != 0 else np.inf
+        found[j] = root + 0j
     values[which[done]], shapes[which[done]], bound[which[done]] = found[done], found_shapes[done], left[done]
     polished[which[done]] = True
-    return which[~done]
+    return which[~done & ~real]
+
+
+def _real_cluster(values, shapes, bound, run, found, defective) -> bool:
+    """A cluster ``run`` of real roots (sorted, closer than their round-off: a conjugate pair the
+    solve's round-off snapped to the real axis, or a double real root) that :func:`_cluster_polished`
+    polished into ``found`` (roots, shapes, error left), written in place on the real axis; returns
+    whether it was (each polished root within :data:`_REAL_REACH` times its bound of its start).
+
+    Each root is the real part of its polished root; its error left the polish's plus that root's
+    imaginary part (relative): the truth is then a conjugate pair whose damping ratio is 1 to about
+    1e-17, a relaxation as the table counts it, which the polish locates exactly and the real axis
+    holds to its imaginary part. A pair with nearly parallel shapes (``defective``, one defective
+    double root) is made its mean (:func:`_one_defective_root`). The Maxwell test model at 3,000
+    rpm (``tests/test_exact_roots27l.py``): two such pairs near -33 1/s, -33.111525708 +- 9.0e-8 j
+    and -32.925905800 +- 7.7e-8 j (a 40-digit solve); their real parts now to 1e-15, the solve's
+    3e-9 and 3.5e-12 off, and until roots33 one root of the first was moved 1.4e-9 off its real
+    part by a one-root real Newton (claiming 2.5e-10), the other left."""
+    roots, found_shapes, left = found
+    order = np.lexsort((roots.imag, roots.real))
+    roots, found_shapes = roots[order], found_shapes[order]
+    starts = values[run].real
+    if not np.all(np.abs(roots - starts) <= _REAL_REACH * bound[run] * np.abs(starts)):
+        return False
+    out, each = roots.copy(), np.full(len(run), float(left))
+    if defective:
+        _one_defective_root(out, each, np.arange(2))
+    each = each + np.abs(out.imag) / np.abs(out)         # the triangle: its polished error and the axis's
+    values[run], shapes[run], bound[run] = out.real + 0j, found_shapes, each
+    return True
 
 
 def single_roots_polished(mass, damping, stiffness, roots, shapes, branches=None):
@@ -1032,8 +1082,11 @@ def single_roots_polished(mass, damping, stiffness, roots, shapes, branches=None
     patterns = [_row_pattern(matrix) for matrix in (mass, damping, stiffness)]
     if branches is not None:        # every branch's rows, (b k, k)
         patterns.append(_row_pattern(np.asarray(branches[0], dtype=float).reshape(-1, np.shape(branches[0])[-1])))
-    for _ in range(_PAIR_STEPS + 1):
-        which = np.flatnonzero(active)
+    # a complex root's steps as root_polished's; a real one's up to _REAL_STEPS (chord steps from
+    # further off: a relaxation beside a stiff branch)
+    steps = np.where(np.asarray(roots).imag == 0, _REAL_STEPS, _PAIR_STEPS + 1)
+    for step in range(int(steps.max(initial=0))):
+        which = np.flatnonzero(active & (step < steps))
         if not len(which):
             break
         residual = _pencil_residual(patterns, s[which].astype(np.result_type(_EXTENDED, 1j)), X[:, which], low[:, which],
@@ -1164,22 +1217,52 @@ def _gathered_products(patterns, X, low, wide):
     """``M X``, ``D X`` and ``K X`` (n, k) each, in the complex precision ``wide``, of ``X + low``
     (n, k) (a double-double) and the dense matrices whose :func:`_row_pattern` are ``patterns``:
     ``K X`` summed exactly (:func:`_gathered_sums`; a low mode's smooth shape against a stiff
-    element cancels its terms by up to 1e12), ``K low``, ``M X`` and ``D X`` in ``wide``."""
+    element cancels its terms by up to 1e12), ``K low``, ``M X`` and ``D X`` in ``wide``. The rows
+    go in groups of like width (:func:`_width_groups`), each padded to its own widest row."""
     n, k = X.shape
     (mc, mv), (dc, dv), (kc, kv) = patterns[:3]
-    width = max(mc.shape[1], dc.shape[1], kc.shape[1])
     real = np.real(np.zeros(1, wide)).dtype
     Xw, lw = X.astype(wide) + low.astype(wide), low.astype(wide)
     parts = np.concatenate([X.real, X.imag], axis=1)        # (n, 2k)
     out = [np.empty((n, k), wide) for _ in range(3)]
-    # the gathered (r, w, k) terms of a part of the rows at a time (a dense pencil: w = n)
-    for rows in _batches.chunk_slices(n, _GATHER_BYTES * width * k, budget=_batches._PART_BYTES):
-        out[0][rows] = np.einsum("rw,rwk->rk", mv[rows].astype(real), Xw[mc[rows]])
-        out[1][rows] = np.einsum("rw,rwk->rk", dv[rows].astype(real), Xw[dc[rows]])
-        exact = _gathered_sums(kv[rows], parts[kc[rows]])
-        out[2][rows] = np.einsum("rw,rwk->rk", kv[rows].astype(real), lw[kc[rows]]) \
-            + (exact[:, :k] + 1j * exact[:, k:]).astype(wide)
+    for group, (wm, wd, wk) in _width_groups(patterns[:3]):
+        width = max(wm, wd, wk)
+        # the gathered (r, w, k) terms of a part of the group's rows at a time (a dense pencil: w = n)
+        for part in _batches.chunk_slices(len(group), _GATHER_BYTES * width * k, budget=_batches._PART_BYTES):
+            rows = group[part]
+            out[0][rows] = np.einsum("rw,rwk->rk", mv[rows, :wm].astype(real), Xw[mc[rows, :wm]])
+            out[1][rows] = np.einsum("rw,rwk->rk", dv[rows, :wd].astype(real), Xw[dc[rows, :wd]])
+            exact = _gathered_sums(kv[rows, :wk], parts[kc[rows, :wk]])
+            out[2][rows] = np.einsum("rw,rwk->rk", kv[rows, :wk].astype(real), lw[kc[rows, :wk]]) \
+                + (exact[:, :k] + 1j * exact[:, k:]).astype(wide)
     return out
+
+
+def _width_groups(patterns):
+    """The rows of :func:`_row_pattern`'s ``patterns`` (of ``M``, ``D``, ``K``) in groups, each with
+    the widths (three ints) its rows need of each pattern: all rows at the patterns' own widths,
+    but where a few rows are far wider than the rest (a casing's rows, coupled to every rotor:
+    padded to them, every row of a machine of 448 coordinates cost as a full one, a single root's
+    polish about one eigen-solve of the speed), the rows up to :data:`_WIDE_ROW` times the 90th
+    percentile's width apart from the wider ones."""
+    counts = np.stack([np.count_nonzero(values, axis=1) for _, values in patterns])      # (3, n)
+    widths = [values.shape[1] for _, values in patterns]
+    n = counts.shape[1]
+    rows = counts.max(axis=0)
+    limit = _WIDE_ROW * max(1.0, float(np.percentile(rows, 90))) if n else 0.0
+    if not n or rows.max() <= limit:
+        return [(np.arange(n), widths)]
+    narrow = rows <= limit
+    groups = []
+    for chosen in (narrow, ~narrow):
+        index = np.flatnonzero(chosen)
+        groups.append((index, [max(1, int(c[index].max())) for c in counts]))
+    return groups
+
+
+#: how many times the 90th percentile's row width a row may be before :func:`_width_groups` takes
+#: the wider rows apart
+_WIDE_ROW = 4.0
 
 
 def sparse_block_polished(mass, damping, stiffness, roots, shapes):
@@ -1368,90 +1451,14 @@ def _defective_mean(values, shapes, bound, run, mass, damping, stiffness, branch
     return True
 
 
-def _real_root_polished(values, shapes, bound, a, starts, mass, damping, stiffness, branches=None) -> bool:
-    """The real root ``values[a]`` (a relaxation of rubber mounts, an overdamped root) polished in
-    place with its shape and ``bound`` (:func:`refined_pairs`) by :func:`_real_newton`, kept only
-    where its steps converge within :data:`_REAL_REACH` times its bound of its start, nearer it than
-    any other root's start ``starts`` (m,) (not another root's: a cluster's roots are polished one
-    by one); returns whether it was."""
-    start = values[a].real
-    if branches is not None and np.any(np.abs(1.0 + start * np.asarray(branches[1])) <= _POLE):
-        return False           # at a branch's pole: a root of its own states, not of the pencil
-    found = _real_newton(mass, damping, stiffness, branches, start, np.real(shapes[a]))
-    if found is None or not abs(found[0] - start) <= _REAL_REACH * bound[a] * abs(start):
-        return False
-    if np.argmin(np.abs(starts - found[0])) != a:
-        return False
-    values[a], shapes[a], bound[a] = found[0] + 0j, found[1], found[2]
-    return True
-
-
-def _real_newton(mass, damping, stiffness, branches, root, shape):
-    """A real root ``root`` [1/s] of the pencil ``T(s) = M s^2 + D s + K`` (+ the Maxwell branches'
-    ``sum_t K_t s tau_t / (1 + s tau_t)`` on the first ``k`` coordinates, ``branches`` as
-    :func:`branch_terms`) with its real shape (n,), polished in real arithmetic (a quarter of a
-    complex root's work): chord steps of Newton's bordered system ``[[T(s), T'(s) x], [x0^T, 0]]``
-    (factored once), the residual's ``K x`` and ``K_t x`` summed exactly
-    (:func:`._lowest_newton._exact_sums`), the shape kept as a double-double, the rest in
-    ``longdouble``, as :func:`._lowest_newton.rational_root_polished` polishes a complex root.
-
-    Returns
-    -------
-    None where a step fails or the steps do not converge below ``_lowest_newton._PROMISED``, else
-    root : float; shape : ndarray, shape (n,), unit, its sign that of ``shape``; left : float, the
-    error left (relative)
-    """
-    import scipy.linalg
-
-    from ._lowest_newton import _EXTENDED, _PROMISED, _exact_sums, _round_off_of, bordered_lu
-
-    n = mass.shape[0]
-    x = np.asarray(shape, dtype=float) / np.linalg.norm(shape)
-    start, s = x.copy(), float(root)
-    K_t, times = (np.zeros((0, 0, 0)), np.zeros(0)) if branches is None else (np.asarray(branches[0], float), np.asarray(branches[1], float))
-    k = K_t.shape[-1]
-    T = mass * s * s + damping * s + stiffness
-    slope = (2.0 * s * mass + damping) @ x
-    for K, tau in zip(K_t, times):
-        T[:k, :k] += s * tau / (1.0 + s * tau) * K
-        slope[:k] += tau / (1.0 + s * tau) ** 2 * (K @ x[:k])
-    lu = bordered_lu(T, slope, start, finite_only=True)
-    if lu is None:
-        return None
-    low, moved = np.zeros(n), np.inf             # x + low: the shape as a double-double
-    stacked = K_t.reshape(len(times) * k, k)     # (b k, k): every branch's rows
-    for _ in range(_REAL_STEPS):
-        sw, xw = _EXTENDED(s), x.astype(_EXTENDED) + low.astype(_EXTENDED)
-        residual = (mass.astype(_EXTENDED) @ xw) * sw * sw + (damping.astype(_EXTENDED) @ xw) * sw \
-            + _exact_sums(stiffness, x[:, None])[:, 0].real.astype(_EXTENDED) + stiffness.astype(_EXTENDED) @ low
-        if len(times):
-            products = (_exact_sums(stacked, x[:k, None])[:, 0].real.astype(_EXTENDED)
-                        + stacked.astype(_EXTENDED) @ low[:k]).reshape(len(times), k)
-            residual[:k] += (sw * times.astype(_EXTENDED) / (1 + sw * times.astype(_EXTENDED))) @ products
-        d = scipy.linalg.lu_solve(lu, -np.append(residual.astype(float), 0.0), check_finite=False)
-        if not np.all(np.isfinite(d)):
-            return None
-        more = low + d[:n]
-        high = x + more
-        x, low = high, more - (high - x)                   # two-sum: x + low the exact sum
-        s += d[n]
-        moved = abs(d[n]) / abs(s)
-        if moved <= 4 * np.finfo(float).eps:
-            break
-    if not moved <= _PROMISED:
-        return None
-    unit = x / np.linalg.norm(x)
-    unit = unit if unit @ shape >= 0 else -unit
-    inertia = float(_round_off_of(mass, damping, np.array([s]), unit[None])[0]) * np.finfo(_EXTENDED).eps / np.finfo(float).eps
-    return s, unit, max(moved, inertia, 4 * np.finfo(float).eps)
-
-
-#: chord steps at most of :func:`_real_newton` (from a root 1e-4 off: 1e-8, 1e-12, 1e-16)
+#: chord steps at most of a real root in :func:`single_roots_polished` (from a root 1e-4 off: 1e-8,
+#: 1e-12, 1e-16; a real root of rubber_mounts with a 1e-12 s branch 3.2e-4 off needs six to reach
+#: 1e-12), a complex one's as :func:`._lowest_newton.root_polished`'s
 _REAL_STEPS = 6
 
 
 #: ``|1 + s tau|`` at or below which a real root ``s`` is at a Maxwell branch's pole ``-1/tau``
-#: (:func:`_real_root_polished`: rubber_mounts with a 1e-12 s branch has roots 1.3e-6 from the
+#: (:func:`_singles_polished`: rubber_mounts with a 1e-12 s branch has roots 1.3e-6 from the
 #: 0.02 s branches' pole, its own states' -50 1/s split by round-off, which no step on the pencil reaches)
 _POLE = 1e-3
 #: how far a real root's polish may move it, in its bound (:func:`pencil_round_off`, measured 0.01 to

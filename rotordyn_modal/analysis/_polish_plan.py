@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["POLISH_WORK", "SMALL_MACHINE", "BIG_MACHINE_WORK", "BATCHED_ROOT_WORK", "SPARSE_ROOT_WORK", "polish_budget",
+__all__ = ["POLISH_WORK", "SMALL_MACHINE", "BIG_MACHINE_WORK", "BATCHED_ROOT_WORK", "SPARSE_ROOT_WORK", "DENSE_ROOT_WORK",
+           "polish_budget",
            "polish_work", "run_work"]
 
 
@@ -70,14 +71,28 @@ BATCHED_ROOT_WORK = 0.2
 SPARSE_ROOT_WORK = 0.02
 
 
+#: the work of one single root polished with the others of its speed at once on a dense pencil of
+#: more than :data:`SMALL_MACHINE` coordinates, in eigen-solves of the speed (in place of
+#: :data:`BATCHED_ROOT_WORK` of :func:`polish_work`, 0.18 to 0.12 there). Measured (roots33; CPU, one
+#: BLAS thread, 3 runs; ``/tmp/roots33/full_cost.py``): the cut shaft's pencil with ten rows and
+#: columns coupled to every coordinate (a casing's: 7 to 10 % of the entries nonzero), 47 and 48
+#: single roots, 0.044 to 0.054 of the solve a root at 308 coordinates, 0.034 to 0.039 at 448; the
+#: pencil's rows padded to the widest (before roots33) cost about 0.3 a root at 308
+DENSE_ROOT_WORK = 0.06
+
+
 def run_work(size, n, sparse=False):
-    """The work of polishing a run of ``size`` complex roots (:func:`_clusters`; one root: with the
-    speed's other single roots at once) on a machine of ``n`` coordinates, in eigen-solves of the
+    """The work of polishing a run of ``size`` roots (:func:`_clusters`; one root: with the speed's
+    other single roots at once; real roots as complex ones since roots33, a real run as a complex
+    cluster) on a machine of ``n`` coordinates, in eigen-solves of the
     speed: :data:`SPARSE_ROOT_WORK` a root on a sparse pencil, else :data:`BATCHED_ROOT_WORK` of
-    :func:`polish_work` for one root and :func:`polish_work` for a cluster."""
+    :func:`polish_work` for one root (:data:`DENSE_ROOT_WORK` above :data:`SMALL_MACHINE`
+    coordinates) and :func:`polish_work` for a cluster."""
     if sparse:
         return SPARSE_ROOT_WORK * (1.0 if size == 1 else size ** 3 / 4.0)
-    return BATCHED_ROOT_WORK * polish_work(1, n) if size == 1 else polish_work(size, n)
+    if size == 1:
+        return DENSE_ROOT_WORK if n > SMALL_MACHINE else BATCHED_ROOT_WORK * polish_work(1, n)
+    return polish_work(size, n)
 
 
 def _clusters(values, bound, order):

@@ -9,7 +9,7 @@ from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
                       parse_range, save_figure, show_progress, speeds_option, speeds_text,
-                      use_agg, write_table)
+                      use_agg, with_round_off_rows, write_table)
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "stability"
@@ -108,7 +108,8 @@ def run(args) -> int:
     result = stability(model, speeds, vary=args.vary, values=values, scale=scale, progress=show_progress(args),
                        modes=lowest, max_frequency=limit)
     empty = None if limit is None else f"no mode below {limit:g} Hz {speeds_text(args)}"
-    write_table(result.to_dataframe(), args, empty=empty)
+    table = result.to_dataframe()
+    write_table(table, args, empty=empty, shown=with_round_off_rows(table, result))
     if not args.quiet:
         _print_thresholds(result)
     if args.plot:

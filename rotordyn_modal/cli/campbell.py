@@ -33,8 +33,10 @@ right above the N lowest (hundreds of rotors on bearings), --lowest N takes shif
 Arnoldi at each speed, with a bar of the speeds on a terminal (section 17, "Crowded spectra").
 
 CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part,mode_at_speed
-('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
-'modes --speed SPEED_RPM', whose --shape draws it)
+(real_part is the root's real part in 1/s, in both unit systems: the mode's amplitude goes as
+exp(real_part t); damping_ratio, log_decrement and whirl_ratio have no unit; 'mode' is the
+mode's label tracked over the sweep; 'mode_at_speed' its number in 'modes --speed SPEED_RPM',
+whose --shape draws it; docs/units.md lists every column's unit)
 
 A sweep or a set of critical speeds that would not fit in the memory at hand is refused
 before its work, with its estimate (exit 2); ROTORDYN_MODAL_MEMORY_GB sets the memory to

@@ -42,8 +42,11 @@ modes below HZ Hz; modes above HZ Hz and real roots not checked"); the table lea
 mode's rows at the speeds where it lies above HZ. It also works with --vary.
 
 CSV columns: speed_rpm,value,mode,real_part,damping_ratio,log_decrement,frequency_hz,whirl,mode_at_speed
-('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
-'modes --speed SPEED_RPM', empty for roots that are not modes there)
+(real_part is the root's real part in 1/s, in both unit systems: the mode's amplitude goes as
+exp(real_part t), so a positive real part grows; damping_ratio and log_decrement have no unit;
+'value' is the model key's value in the model file's SI unit, or the factor; 'mode' is the
+mode's label tracked over the sweep; 'mode_at_speed' its number in 'modes --speed SPEED_RPM',
+empty for roots that are not modes there; docs/units.md lists every column's unit)
 
 examples:
   rotordyn-modal stability examples/unstable_cross_coupled.toml --speeds 0:20000:401

@@ -156,3 +156,82 @@ def test_stability_round_off_rows_line_up_with_the_table():
     each = [r.round_off_rows()["real_part"] for r in grid.results]
     np.testing.assert_array_equal(grid.round_off_rows()["real_part"], np.concatenate(each))
     assert len(grid.round_off_rows()["real_part"]) == len(grid.to_dataframe())
+
+
+# -- issue 29 §6: every CSV column's unit can be told from its name or docs/units.md -----------
+
+DOCS_UNITS = EXAMPLES.parent / "docs" / "units.md"
+#: name endings that are units (docs/units.md, "Tables: column names")
+UNIT_ENDINGS = ("_rpm", "_hz", "_deg", "_rad", "_s", "_m", "_N", "_Nm", "_Pa", "_n_per_m", "_j", "_nm")
+
+
+def _documented_columns():
+    """The backquoted words of docs/units.md's section on columns without a unit in their name."""
+    import re
+
+    text = DOCS_UNITS.read_text()
+    start = text.index("## Every CSV column without a unit in its name")
+    section = text[start:text.index("\n## ", start + 1)]
+    return set(re.findall(r"`([A-Za-z_]+)`", section))
+
+
+def _run(argv, capsys):
+    from rotordyn_modal.cli.main import main
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        code = main(argv)
+    capsys.readouterr()
+    assert code == 0, argv
+
+
+def test_every_csv_column_names_its_unit_or_docs_units_gives_it(tmp_path, capsys):
+    """The CSVs of modes, campbell, critical-speeds, stability (and its map), frf (sensors and
+    forces), unbalance (response, checks, orbits), static (a flexible shaft), level1 and ucs-map:
+    a column without a unit ending is listed in docs/units.md with its unit, or as having none.
+    On the base, real_part (1/s), frf's real/imag/magnitude and unbalance's amplitude were in
+    neither."""
+    ex = lambda name: str(EXAMPLES / name)                     # noqa: E731
+    out = lambda name: str(tmp_path / name)                    # noqa: E731
+    runs = [
+        ["modes", ex("flexible_pump_on_mounts.toml"), "--speed", "3000", "--out", out("modes.csv")],
+        ["campbell", ex("fan_on_bearings.toml"), "--speeds", "0:6000:3", "--out", out("campbell.csv")],
+        ["critical-speeds", ex("fan_on_bearings.toml"), "--speeds", "0:6000:7", "--out", out("critical.csv")],
+        ["stability", ex("unstable_cross_coupled.toml"), "--speeds", "0:12000:3", "--vary",
+         "suspensions.bearing-A.damping", "--scale", "1,2", "--out", out("stability.csv")],
+        ["frf", ex("gear_machine.toml"), "--speed", "3000", "--freqs", "1:60:3", "--excitation", "hammer-z",
+         "--sensor", "acc-top-z", "--out", out("frf.csv")],
+        ["frf", ex("gear_machine.toml"), "--speed", "0", "--freqs", "1:60:3", "--force-outputs", "suspensions",
+         "--out", out("frf_forces.csv")],
+        ["unbalance", ex("fan_on_bearings.toml"), "--speeds", "100:9000:3", "--mcs", "3000", "--iso-group", "2",
+         "--iso-support", "flexible", "--amplitude", "pk-pk", "--forces", "all", "--out", out("unbalance.csv"),
+         "--checks", out("checks.csv"), "--orbits", out("orbits.csv")],
+        ["static", ex("flexible_pump_on_mounts.toml"), "--out", out("static.csv")],
+        ["level1", ex("fan_on_bearings.toml"), "--mcs", "3000", "--station", "fan@-0.1", "--qa", "2e5",
+         "--out", out("level1.csv")],
+        ["ucs-map", ex("fan_on_bearings.toml"), "--stiffness", "1e5:1e9:3", "--out", out("ucs.csv")],
+    ]
+    for argv in runs:
+        _run([*argv, "--quiet"], capsys)
+    documented = _documented_columns()
+    missing = {}
+    for path in sorted(tmp_path.glob("*.csv")):
+        for column in pd.read_csv(path, nrows=0).columns:
+            named = column.endswith(UNIT_ENDINGS) or column.startswith(("log_decrement_mode_", "frequency_hz_mode_"))
+            if not named and column not in documented:
+                missing.setdefault(path.name, []).append(column)
+    assert len(list(tmp_path.glob("*.csv"))) == 12
+    assert not missing, missing
+
+
+@pytest.mark.parametrize("command", ["campbell", "stability"])
+def test_help_gives_real_parts_unit(command):
+    """The spec fixes the name real_part; the --help and docs/units.md give its unit, 1/s."""
+    import re
+    import subprocess
+    import sys
+
+    text = subprocess.run([sys.executable, "-m", "rotordyn_modal", command, "--help"], capture_output=True,
+                          text=True, check=True, cwd=EXAMPLES.parent).stdout
+    assert re.search(r"real_part is the root's real part in 1/s", " ".join(text.split()))
+    assert re.search(r"`real_part` \| 1/s", DOCS_UNITS.read_text())

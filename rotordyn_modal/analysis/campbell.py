@@ -20,7 +20,7 @@ from ._stack import Stack
 from .critical_speeds import (_SUB_DEPTH, _SUB_SPEEDS, JUMP_TOLERANCE, ROUND_OFF_RELATIVE, WHIRL_ROUND_OFF,
                               CriticalSpeeds, ExcitationSources, _critical_table, _find_critical_speeds,
                               _warn_of_jumps, _with_sweep, excitation_sources, off_order_line)
-from .modal import is_oscillating, modal_quantities
+from .modal import _constant_round_off, is_oscillating, modal_quantities
 from .mode_numbers import numbers_at_speed
 from ._weighted_rows import WeightedRows
 from .tracking import track_modes_many
@@ -321,9 +321,25 @@ class CampbellResult:
         })
         table.loc[table["mode_at_speed"] == 0, "mode_at_speed"] = pd.NA
         table = table[keep].reset_index(drop=True)
-        table.attrs["round_off"] = _round_off_columns(
-            self.eigenvalues.ravel()[keep], None if self.whirl_round_off is None else self.whirl_round_off.ravel()[keep])
+        # one number a column where it is constant (the damping ratio's 1e-10): pandas compares
+        # the attrs of tables it concatenates, and arrays of two lengths cannot be compared
+        table.attrs["round_off"] = _constant_round_off(self.round_off_rows(oscillatory_only))
         return table
+
+    def round_off_rows(self, oscillatory_only: bool = True) -> dict:
+        """What round-off can move the damping columns and the whirl ratio of :meth:`to_dataframe`
+        by, row by row (:func:`_round_off_columns`).
+
+        Returns
+        -------
+        dict of str -> ndarray, shape (rows of ``to_dataframe(oscillatory_only)``,)
+            ``real_part`` [1/s], ``damping_ratio``, ``log_decrement``, ``whirl_ratio`` [-]. The
+            terminal prints values within it as 0 (``cli._common.print_table``); the table's
+            ``attrs['round_off']`` keeps only the columns where it is one number for every row.
+        """
+        keep = self.oscillatory.ravel() if oscillatory_only else np.ones(self.eigenvalues.size, bool)
+        return _round_off_columns(
+            self.eigenvalues.ravel()[keep], None if self.whirl_round_off is None else self.whirl_round_off.ravel()[keep])
 
     def plot(self, **kwargs):
         """Campbell diagram; see :func:`rotordyn_modal.plotting.plot_campbell`."""

@@ -250,8 +250,20 @@ class ModalResult:
             for i, part in enumerate(self.energy_parts):
                 table[_ENERGY_COLUMNS[part]] = fractions[:, i] + 0.0
             table["kind"] = self.kinds[keep]
-        table.attrs["round_off"] = self._round_off_columns(keep)
+        table.attrs["round_off"] = _constant_round_off(self._round_off_columns(keep))
         return table
+
+    def round_off_rows(self, oscillatory_only: bool = True) -> dict:
+        """What round-off can move each column of :meth:`to_dataframe` by, row by row.
+
+        Returns
+        -------
+        dict of str -> ndarray, shape (rows of ``to_dataframe(oscillatory_only)``,)
+            In the column's unit. The terminal prints values within it as 0
+            (``cli._common.print_table``); the table's ``attrs['round_off']`` keeps only the
+            columns where it is one number for every row.
+        """
+        return self._round_off_columns(self.oscillatory if oscillatory_only else np.ones_like(self.oscillatory))
 
     def _round_off_columns(self, keep) -> dict:
         """What round-off can move each column's values by, row by row (the terminal prints those
@@ -550,3 +562,14 @@ def mac(shapes_a, shapes_b, mass=None) -> np.ndarray:
     norm_a = np.einsum("mi,ij,mj->m", a.conj(), weight, a).real
     norm_b = np.einsum("mi,ij,mj->m", b.conj(), weight, b).real
     return cross / np.outer(norm_a, norm_b)
+
+
+def _constant_round_off(rows: dict) -> dict:
+    """Of a table's round-off ``rows`` (column -> ndarray, one value a row), the columns whose
+    round-off is one number for every row, as that number (float). A table's ``attrs`` holds
+    these: pandas compares the attrs of the tables it concatenates (arrays of other lengths cannot
+    be compared), deep-copies them on every operation, and keeps them on rows it selects or sorts,
+    where an array a row would no longer line up (``round_off_rows()`` of the result gives every
+    column's, row by row)."""
+    return {column: float(values[0]) for column, values in rows.items()
+            if len(values) and np.all(values == values[0])}

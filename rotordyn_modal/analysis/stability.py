@@ -16,7 +16,7 @@ from . import _eigensolve, _roots, _whirl
 from ._stack import Stack
 from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest, _check_speeds, _refine_inexact,
                        _lowest_whirl_round_off, _progress, lowest_stack, solve_sweeps, stack_root_count)
-from .modal import is_oscillating, modal, modal_quantities
+from .modal import _constant_round_off, is_oscillating, modal, modal_quantities
 from .mode_numbers import numbers_at_speed
 
 __all__ = ["StabilityResult", "StabilityMap", "stability", "stability_map", "threshold_speeds", "unstable_intervals"]
@@ -181,8 +181,23 @@ class StabilityResult:
         })
         if not asked.all():
             table = table[asked].reset_index(drop=True)
-        table.attrs["round_off"] = {key: value[asked] for key, value in self._round_off_columns().items()}
+        # one number a column where it is constant: pandas compares the attrs of tables it concatenates
+        table.attrs["round_off"] = _constant_round_off(self.round_off_rows())
         return table
+
+    def round_off_rows(self) -> dict:
+        """What round-off can move the real parts, damping ratios and log decrements of
+        :meth:`to_dataframe` by, row by row (:meth:`_round_off_columns`).
+
+        Returns
+        -------
+        dict of str -> ndarray, shape (rows of ``to_dataframe()``,)
+            ``real_part`` [1/s], ``damping_ratio``, ``log_decrement`` [-]. The terminal prints
+            values within it as 0 (``cli._common.print_table``); the table's ``attrs['round_off']``
+            keeps only the columns where it is one number for every row.
+        """
+        asked = ~np.isnan(self.eigenvalues.ravel())         # the rows to_dataframe keeps
+        return {key: value[asked] for key, value in self._round_off_columns().items()}
 
     def _round_off_columns(self) -> dict:
         """What round-off can move the real parts, damping ratios and log decrements by, row by
@@ -246,15 +261,20 @@ class StabilityMap:
     def to_dataframe(self):
         import pandas as pd
 
-        tables, noise = [], []
+        tables = []
         for value, result in zip(self.values, self.results):
             table = result.to_dataframe()
             table["value"] = value
-            noise.append(table.attrs.pop("round_off"))      # arrays: pandas cannot compare them to concat
             tables.append(table)
         out = pd.concat(tables, ignore_index=True)
-        out.attrs["round_off"] = {column: np.concatenate([n[column] for n in noise]) for column in noise[0]}
+        out.attrs["round_off"] = _constant_round_off(self.round_off_rows())
         return out
+
+    def round_off_rows(self) -> dict:
+        """Every value's :meth:`StabilityResult.round_off_rows`, one after the other, as the rows
+        of :meth:`to_dataframe`."""
+        rows = [result.round_off_rows() for result in self.results]
+        return {column: np.concatenate([each[column] for each in rows]) for column in rows[0]}
 
     def plot(self, **kwargs):
         """Map with the stability boundary; see :func:`rotordyn_modal.plotting.plot_stability_map`."""

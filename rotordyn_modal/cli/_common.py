@@ -897,6 +897,15 @@ def undamped_zeros(table, model, speed: float | None = None):
     return table
 
 
+def with_round_off_rows(table, result):
+    """A copy of ``table`` (``result.to_dataframe()``) whose ``attrs['round_off']`` holds every
+    column's round-off row by row (``result.round_off_rows()``) for :func:`print_table`: the
+    result's own table keeps only the columns where it is one number (pandas compares attrs)."""
+    table = table.copy()
+    table.attrs["round_off"] = {**table.attrs.get("round_off", {}), **result.round_off_rows()}
+    return table
+
+
 def print_table(table, empty: str | None = None):
     """Print a table on the terminal, shortened to its first rows when long.
 

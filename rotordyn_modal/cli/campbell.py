@@ -10,7 +10,7 @@ from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
                       save_figure, show_progress, speeds_option, speeds_text, use_agg,
-                      undamped_zeros, write_table)
+                      undamped_zeros, with_round_off_rows, write_table)
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "campbell"
@@ -33,8 +33,10 @@ right above the N lowest (hundreds of rotors on bearings), --lowest N takes shif
 Arnoldi at each speed, with a bar of the speeds on a terminal (section 17, "Crowded spectra").
 
 CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part,mode_at_speed
-('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
-'modes --speed SPEED_RPM', whose --shape draws it)
+(real_part is the root's real part in 1/s, in both unit systems: the mode's amplitude goes as
+exp(real_part t); damping_ratio, log_decrement and whirl_ratio have no unit; 'mode' is the
+mode's label tracked over the sweep; 'mode_at_speed' its number in 'modes --speed SPEED_RPM',
+whose --shape draws it; docs/units.md lists every column's unit)
 
 A sweep or a set of critical speeds that would not fit in the memory at hand is refused
 before its work, with its estimate (exit 2); ROTORDYN_MODAL_MEMORY_GB sets the memory to
@@ -103,8 +105,8 @@ def run(args) -> int:
                       modes=lowest, max_frequency=limit)
     empty = (f"no oscillating modes {speeds_text(args)}: {result.eigenvalues.shape[1]} roots at each speed, all "
              "real or overdamped") if limit is None else f"no mode below {limit:g} Hz {speeds_text(args)}"
-    table = undamped_zeros(result.to_dataframe(), model)
-    write_table(table, args, empty=empty)
+    table = result.to_dataframe()
+    write_table(table, args, empty=empty, shown=undamped_zeros(with_round_off_rows(table, result), model))
     if (counts := _not_listed(result)) and len(table) and not args.quiet:
         print(f"{counts} not listed as modes (docs/model-file.md, roots that are not modes)", file=sys.stderr)
     if args.plot:

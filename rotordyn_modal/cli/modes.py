@@ -11,7 +11,7 @@ from ..io.outline import read_outline
 from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
                       add_speed_unit, check_extra_output, open_model, save_figure, show_progress, speed_value, use_agg,
-                      undamped_zeros, whole_number, write_table)
+                      undamped_zeros, whole_number, with_round_off_rows, write_table)
 
 NAME = "modes"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
@@ -146,7 +146,7 @@ def run(args) -> int:
         view = mode_shape_3d(result, model, mode, outline=outline)
     if args.plot_shaft or (args.plot and view is None):
         _check_modes(result, wanted, args)
-    table = undamped_zeros(result.to_dataframe(), model, speed)
+    table = undamped_zeros(with_round_off_rows(result.to_dataframe(), result), model, speed)
     counts = _not_listed(result)
     if measured is not None:
         _write_pairs(model, measured, speed, result, args)

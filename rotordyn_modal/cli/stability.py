@@ -9,7 +9,7 @@ from ._common import ESTIMATING, starting
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
                       parse_range, save_figure, show_progress, speeds_option, speeds_text,
-                      use_agg, write_table)
+                      use_agg, with_round_off_rows, write_table)
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "stability"
@@ -42,8 +42,11 @@ modes below HZ Hz; modes above HZ Hz and real roots not checked"); the table lea
 mode's rows at the speeds where it lies above HZ. It also works with --vary.
 
 CSV columns: speed_rpm,value,mode,real_part,damping_ratio,log_decrement,frequency_hz,whirl,mode_at_speed
-('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
-'modes --speed SPEED_RPM', empty for roots that are not modes there)
+(real_part is the root's real part in 1/s, in both unit systems: the mode's amplitude goes as
+exp(real_part t), so a positive real part grows; damping_ratio and log_decrement have no unit;
+'value' is the model key's value in the model file's SI unit, or the factor; 'mode' is the
+mode's label tracked over the sweep; 'mode_at_speed' its number in 'modes --speed SPEED_RPM',
+empty for roots that are not modes there; docs/units.md lists every column's unit)
 
 examples:
   rotordyn-modal stability examples/unstable_cross_coupled.toml --speeds 0:20000:401
@@ -108,7 +111,8 @@ def run(args) -> int:
     result = stability(model, speeds, vary=args.vary, values=values, scale=scale, progress=show_progress(args),
                        modes=lowest, max_frequency=limit)
     empty = None if limit is None else f"no mode below {limit:g} Hz {speeds_text(args)}"
-    write_table(result.to_dataframe(), args, empty=empty)
+    table = result.to_dataframe()
+    write_table(table, args, empty=empty, shown=with_round_off_rows(table, result))
     if not args.quiet:
         _print_thresholds(result)
     if args.plot:

@@ -168,3 +168,31 @@ def test_flexible_whirl_forms_as_block_diag_products():
     for piece, form in zip(pieces, forms):
         reference = motions.T @ (scipy.sparse.block_diag(list(form), format="csr") @ motions)
         np.testing.assert_array_equal(piece.toarray(), reference.toarray())
+
+
+def test_close_upper_is_the_routes_whole_test():
+    """``_lowest._close_upper`` of ascending frequencies marks the speeds ``_lowest_of_upper``
+    solves whole (a root within 1e-4 of its modulus of another or of its conjugate,
+    ``lowest_order``'s ties included), and those with a zero root (which the route's zero floor
+    solves whole): random spectra with repeated, near and zero frequencies."""
+    from rotordyn_modal.analysis._lowest_starts import _close, lowest_order
+    from rotordyn_modal.analysis.modal import is_oscillating
+
+    rng = np.random.default_rng(3)
+    for count, m in ((1, 5), (4, 5), (5, 5), (14, 28)):
+        omega = np.sort(rng.uniform(10.0, 1000.0, (400, m)), axis=1)
+        for row in range(0, 400, 4):                                 # a repeated, a near, a zero root
+            j = rng.integers(0, m - 1)
+            omega[row + 1, j + 1] = omega[row + 1, j]
+            omega[row + 2, j + 1] = omega[row + 2, j] * (1 + rng.choice([0.5e-4, 2e-4, 1e-10]))
+            omega[row + 3, 0] = 0.0
+        omega = np.sort(omega, axis=1)
+        upper = 1j * omega
+        order = lowest_order(upper, count)[:, :count]
+        lam = np.take_along_axis(upper, order, axis=1)
+        whole = ~is_oscillating(lam).all(axis=1) | _close(lam, upper, order)
+        found = _lowest._close_upper(omega, count)
+        zero = omega[:, 0] == 0.0                   # solved whole by the zero floor (_near_zero) anyway
+        np.testing.assert_array_equal(found[~zero], whole[~zero])
+        assert found[zero].all() and zero.any()
+        assert whole[~zero].any() and not whole[~zero].all()

@@ -40,7 +40,7 @@ from . import _arnoldi, _batches, _cost, _eigensolve, _lowest_bound, _lowest_rou
 from ._lowest_bound import _FEW, _MARGIN, _Bound, _stack_bound  # noqa: F401 (_Bound: for _lowest_branches)
 from ._lowest_newton import _continued, _refined, _speeds_named
 from ._lowest_pencils import _Pencils
-from ._lowest_starts import (_NODES, _SOLVED, _anchors, _by_frequency, _close, _continuation_guesses, _Expansions,
+from ._lowest_starts import (_CLOSE, _NODES, _SOLVED, _anchors, _by_frequency, _close, _continuation_guesses, _Expansions,
                              _expansion_guesses, _pencil_shapes_part, _projected_guesses, _projected_starts,
                              frequency_key, lowest_order, projected_roots_kept)
 from ._vectors import unit_rows
@@ -1057,13 +1057,26 @@ def weighted_lowest_roots(stack, speeds, count):
         omega, vectors = _hermitian_eigenvectors(constant, gyroscopic, speeds, count)
     if vectors is None:
         return None
-    upper = 1j * omega[:, n:]
-    order = lowest_order(upper, count)[:, :count]
-    lam = upper[:, :count]
-    if _near_zero(constant, gyroscopic, speeds, omega).any() or np.any(order != np.arange(count)) \
-            or not is_oscillating(lam).all() or _close(lam, upper, order).any():
+    if _near_zero(constant, gyroscopic, speeds, omega).any() or _close_upper(omega[:, n:], count).any():
         return None
-    return lam, unit_rows(np.swapaxes(vectors[:, n:], 1, 2))
+    return 1j * omega[:, n:n + count], unit_rows(np.swapaxes(vectors[:, n:], 1, 2))
+
+
+def _close_upper(upper, count):
+    """(S,) :func:`_lowest_of_upper`'s test of the ``count`` lowest of the ascending frequencies
+    ``upper`` (S, m) [rad/s] of an undamped gyroscopic model's roots ``i omega``: a root lies
+    within ``_CLOSE`` of its modulus of another root or of its own conjugate (``_close``; of sorted
+    numbers the nearest other is a neighbour, and ``|i a - i b| = |a - b|`` exactly), or the lowest
+    is not above zero (a speed :func:`_near_zero` solves whole too). Two roots of one frequency
+    (``lowest_order``'s ties) are close, so where none is, ``lowest_order`` keeps the ascending
+    order and every root kept is a mode: with :func:`_near_zero` the same speeds as
+    :func:`_lowest_of_upper` solves whole, without its general sorts."""
+    top = min(count + 1, upper.shape[1])
+    gaps = np.diff(upper[:, :top], axis=1)                          # (S, top - 1): j to j + 1
+    nearest = 2 * upper[:, :count]                                  # to its own conjugate
+    nearest[:, :top - 1] = np.minimum(nearest[:, :top - 1], gaps[:, :count])
+    nearest[:, 1:] = np.minimum(nearest[:, 1:], gaps[:, :count - 1])
+    return ~(upper[:, 0] > 0) | (nearest <= _CLOSE * upper[:, :count]).any(axis=1)
 
 
 def _hermitian_eigenvectors(constant, gyroscopic, speeds, count):

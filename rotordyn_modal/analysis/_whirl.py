@@ -10,7 +10,7 @@ import numpy as np
 import scipy.sparse
 
 from . import _pencils, _vectors
-from ..assembly import _add_sparse, add_rotor_bodies, body_inertias
+from ..assembly import add_rotor_bodies, body_inertias
 from ..model.dofs import frame_block
 from ..model.geometry import shift_matrices, skew
 
@@ -175,7 +175,7 @@ def _node_forms(model, rotor, out=None) -> np.ndarray:
     if out is None:
         out = np.zeros((len(pieces), model.dofs.n, model.dofs.n))
     for d, piece in enumerate(pieces):
-        _add_sparse(out[d], piece)
+        out[d] += piece.toarray()       # a product's CSR holds no entry twice: each added once, as _add_sparse
     return out
 
 
@@ -204,8 +204,17 @@ def _node_pieces(model, rotor) -> list:
     # sum_i T_i^T X_i T_i = T^T blockdiag(X_i) T, sparse: a node moves with a few coordinates; the
     # three blockdiag(X_i) T in one product (a row's sum is its own: the same bits as three)
     moved = _block_diagonal(forms) @ motions
-    size, across = 6 * count, motions.T
-    return [across @ moved[d * size:(d + 1) * size] for d in range(len(forms))]
+    across = motions.T
+    return [across @ _rows_of(moved, d * 6 * count, (d + 1) * 6 * count) for d in range(len(forms))]
+
+
+def _rows_of(matrix, start: int, stop: int):
+    """Rows ``start:stop`` of a CSR ``matrix``, their arrays taken as they are (a view of its
+    entries; scipy's slicing copies them through a general indexer, a tenth of a small model's
+    whirl forms)."""
+    first, last = matrix.indptr[start], matrix.indptr[stop]
+    return scipy.sparse.csr_matrix((matrix.data[first:last], matrix.indices[first:last],
+                                    matrix.indptr[start:stop + 1] - first), shape=(stop - start, matrix.shape[1]))
 
 
 def _block_diagonal(blocks):

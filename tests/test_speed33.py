@@ -46,15 +46,16 @@ def _state_eig(M, G, K, speed):
 
 @pytest.mark.parametrize("speed", [0.0, 4.6875, 37.5, 150.0, 3000.0])
 def test_check_roots_from_hermitian_eigenvectors(speed):
-    """The check's 14 lowest roots are the state matrix's (1e-9), each shape solves the pencil
-    (relative residual below 1e-12) and is scipy's eigenvector of the root, mass-weighted
-    (MAC above 1 - 1e-9)."""
+    """The check's 14 lowest roots are the route's own (bit for bit) and the state matrix's (1e-9),
+    each shape solves the pencil (relative residual below 1e-12) and is scipy's eigenvector of the
+    root, mass-weighted (MAC above 1 - 1e-9)."""
     model = _rotor_example()
     stack = Stack([model])
     found = _lowest.weighted_lowest_roots(stack, np.array([speed]), 14)
     assert found is not None
     lam, weighted = found
     assert lam.shape == (1, 14) and weighted.shape == (1, 14, stack.n_dof)
+    np.testing.assert_array_equal(lam, _lowest.lowest_roots(stack, np.array([speed]), 14)[0])   # the route's bits
     M, G, K = stack.M[0], stack.G[0], stack.K[0]
     roots, vectors = _state_eig(M, G, K, speed)
     upper = np.argsort(np.where(roots.imag > 0, roots.imag, np.inf))[:14]

@@ -40,9 +40,10 @@ from . import _arnoldi, _batches, _cost, _eigensolve, _lowest_bound, _lowest_rou
 from ._lowest_bound import _FEW, _MARGIN, _Bound, _stack_bound  # noqa: F401 (_Bound: for _lowest_branches)
 from ._lowest_newton import _continued, _refined, _speeds_named
 from ._lowest_pencils import _Pencils
-from ._lowest_starts import (_NODES, _SOLVED, _anchors, _by_frequency, _close, _continuation_guesses, _Expansions,
+from ._lowest_starts import (_CLOSE, _NODES, _SOLVED, _anchors, _by_frequency, _close, _continuation_guesses, _Expansions,
                              _expansion_guesses, _pencil_shapes_part, _projected_guesses, _projected_starts,
                              frequency_key, lowest_order, projected_roots_kept)
+from ._vectors import unit_rows
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -1002,12 +1003,113 @@ def _gyroscopic_roots(stack, speeds):
     n = stack.n_dof
     omega = _batches._threaded(functools.partial(_hermitian_eigenvalues, constant, gyroscopic), speeds,
                                item_bytes=64 * n * n)
-    # the round-off of each solve (eps |B|_F, as :func:`._roots.round_off` takes it from the
-    # balanced state matrix): a root within its square root of zero needs its shape to be judged
+    return 1j * omega[:, n:], _near_zero(constant, gyroscopic, speeds, omega)
+
+
+def _near_zero(constant, gyroscopic, speeds, omega):
+    """(S,) the lowest upper root of each speed, ``omega[:, n]`` of the ascending eigenvalues
+    ``omega`` (S, 2 n) of ``B = constant + speeds gyroscopic``, lies within the square root of the
+    solve's round-off of zero (``eps |B|_F``, as :func:`._roots.round_off` takes it from the
+    balanced state matrix): its shape is needed to judge it, and the speed is solved whole."""
     noise = _roots.BACKWARD_FACTOR * np.finfo(float).eps * np.hypot(np.linalg.norm(constant),
                                                                      speeds * np.linalg.norm(gyroscopic))
-    whole = omega[:, n] <= _roots.zero_floor(noise)
-    return 1j * omega[:, n:], whole
+    return omega[:, omega.shape[1] // 2] <= _roots.zero_floor(noise)
+
+
+def weighted_lowest_roots(stack, speeds, count):
+    """The ``count`` lowest roots (S, count) of an undamped gyroscopic small model (the route of
+    :func:`_gyroscopic_lowest`) and their mass-weighted unit shapes (S, count, n), the shapes from
+    the Hermitian matrix's own eigenvectors: for ``campbell``'s checks of its mode links
+    (``campbell._check_roots``), which compare shapes by their MAC only. None where the model
+    takes another route, or where :func:`_lowest_of_upper` would solve a speed whole (a root
+    near zero, not a mode, or within ``_CLOSE`` of another): the caller takes
+    :func:`lowest_roots` there.
+
+    The roots are :func:`_gyroscopic_roots`' (the same bits). An eigenvector ``z`` of the
+    symmetric tridiagonal ``J`` of :func:`_hermitian_eigenvalues` (LAPACK's ``dstein``, inverse
+    iteration at the root) is one of ``B = Q (i T) Q^T`` as ``y = Q conj(D) z``,
+    ``D = diag(i^k)`` (``Q`` from the same ``dgehrd``, ``dorghr``), within ``eps |B|`` over the
+    gap to the next root as the shape of the pencil's one inverse-iteration step is; its lower
+    half ``s L^T x`` is the root's mass-weighted shape ``L^T x`` (``M = L L^T``) times ``s``. Its
+    MAC with the pencil's shape (:func:`_pencil_shapes`) weighted differs from 1 by 1e-15 on
+    ``rotor_example``; the shapes' phase is not ``eig``'s (a MAC does not read it). Per speed one
+    ``dstein`` and ``dorghr`` against ``count`` complex ``n x n`` LU solves, and no product with
+    the mass matrix's factor (``tests/test_speed33.py``).
+
+    Parameters
+    ----------
+    stack : Stack
+    speeds : ndarray, shape (S,) [rad/s]
+    count : int
+
+    Returns
+    -------
+    (eigenvalues, weighted) : (ndarray, shape (S, count), complex [1/s]; ndarray, shape (S, count, n), complex), or None
+    """
+    n = stack.n_dof
+    if n >= DENSE_BELOW or not 0 < count <= n:
+        return None
+    hermitian = _hermitian_form(stack)
+    if hermitian is None:
+        return None
+    constant, gyroscopic = hermitian
+    with _batches.one_blas_thread(64 * n * n):
+        omega, vectors = _hermitian_eigenvectors(constant, gyroscopic, speeds, count)
+    if vectors is None:
+        return None
+    if _near_zero(constant, gyroscopic, speeds, omega).any() or _close_upper(omega[:, n:], count).any():
+        return None
+    return 1j * omega[:, n:n + count], unit_rows(np.swapaxes(vectors[:, n:], 1, 2))
+
+
+def _close_upper(upper, count):
+    """(S,) :func:`_lowest_of_upper`'s test of the ``count`` lowest of the ascending frequencies
+    ``upper`` (S, m) [rad/s] of an undamped gyroscopic model's roots ``i omega``: a root lies
+    within ``_CLOSE`` of its modulus of another root or of its own conjugate (``_close``; of sorted
+    numbers the nearest other is a neighbour, and ``|i a - i b| = |a - b|`` exactly), or the lowest
+    is not above zero (a speed :func:`_near_zero` solves whole too). Two roots of one frequency
+    (``lowest_order``'s ties) are close, so where none is, ``lowest_order`` keeps the ascending
+    order and every root kept is a mode: with :func:`_near_zero` the same speeds as
+    :func:`_lowest_of_upper` solves whole, without its general sorts."""
+    top = min(count + 1, upper.shape[1])
+    gaps = np.diff(upper[:, :top], axis=1)                          # (S, top - 1): j to j + 1
+    nearest = 2 * upper[:, :count]                                  # to its own conjugate
+    nearest[:, :top - 1] = np.minimum(nearest[:, :top - 1], gaps[:, :count])
+    nearest[:, 1:] = np.minimum(nearest[:, 1:], gaps[:, :count - 1])
+    return ~(upper[:, 0] > 0) | (nearest <= _CLOSE * upper[:, :count]).any(axis=1)
+
+
+def _hermitian_eigenvectors(constant, gyroscopic, speeds, count):
+    """:func:`_hermitian_eigenvalues` (S, 2 n), the same bits, and the eigenvectors (S, 2 n, count)
+    of ``B`` of the ``count`` lowest nonnegative ones (``n`` to ``n + count - 1``) as
+    :func:`weighted_lowest_roots` takes them; ``(eigenvalues, None)`` where LAPACK's inverse
+    iteration does not converge or the tridiagonal splits (a zero off-diagonal)."""
+    matrices = np.multiply(speeds[:, None, None], gyroscopic.imag)
+    matrices += constant.imag
+    size = matrices.shape[1]
+    half = size // 2
+    out = np.empty(matrices.shape[:2])
+    vectors = np.empty((len(speeds), size, count), complex)
+    zero = np.zeros(size)
+    blocks, split = np.ones(size, np.int32), np.zeros(size, np.int32)
+    split[0] = size
+    turn = (1j ** -np.arange(size))[:, None]                        # conj(D), D = diag(i^k)
+    for p, matrix in enumerate(matrices):
+        reduced, tau, info = scipy.linalg.lapack.dgehrd(matrix.T, overwrite_a=1)
+        if info != 0:           # pragma: no cover (LAPACK's reduction does not fail on finite input)
+            return out, None
+        off = np.diagonal(reduced, -1).copy()
+        out[p], info = scipy.linalg.lapack.dsterf(zero, off.copy(), overwrite_e=1)
+        if info != 0 or not np.all(off):
+            return out, None
+        z, info = scipy.linalg.lapack.dstein(zero, off, out[p, half:half + count], blocks, split)
+        if info != 0:
+            return out, None
+        q, info = scipy.linalg.lapack.dorghr(reduced, tau, overwrite_a=1)
+        if info != 0:           # pragma: no cover
+            return out, None
+        vectors[p] = q @ (turn * z)
+    return out, vectors
 
 
 def _hermitian_form(stack):

@@ -10,7 +10,7 @@ import numpy as np
 import scipy.sparse
 
 from . import _pencils, _vectors
-from ..assembly import _add_sparse, add_rotor_bodies, body_inertias
+from ..assembly import add_rotor_bodies, body_inertias
 from ..model.dofs import frame_block
 from ..model.geometry import shift_matrices, skew
 
@@ -175,7 +175,7 @@ def _node_forms(model, rotor, out=None) -> np.ndarray:
     if out is None:
         out = np.zeros((len(pieces), model.dofs.n, model.dofs.n))
     for d, piece in enumerate(pieces):
-        _add_sparse(out[d], piece)
+        out[d] += piece.toarray()       # a product's CSR holds no entry twice: each added once, as _add_sparse
     return out
 
 
@@ -201,8 +201,35 @@ def _node_pieces(model, rotor) -> list:
     X, products = _directions(tuple(float(x) for x in model.spin_axis))
     forms = _bodies_quadratic(masses, second, X, skew(masses[:, None] * arms), products)    # (3, N, 6, 6)
     motions = _node_motions_at_reference(model, shaft, parts.relative)                       # (6 N, n)
-    # sum_i T_i^T X_i T_i = T^T blockdiag(X_i) T, sparse: a node moves with a few coordinates
-    return [motions.T @ (scipy.sparse.block_diag(form, format="csr") @ motions) for form in forms]
+    # sum_i T_i^T X_i T_i = T^T blockdiag(X_i) T, sparse: a node moves with a few coordinates; the
+    # three blockdiag(X_i) T in one product (a row's sum is its own: the same bits as three)
+    moved = _block_diagonal(forms) @ motions
+    across = motions.T
+    return [across @ _rows_of(moved, d * 6 * count, (d + 1) * 6 * count) for d in range(len(forms))]
+
+
+def _rows_of(matrix, start: int, stop: int):
+    """Rows ``start:stop`` of a CSR ``matrix``, their arrays taken as they are (a view of its
+    entries; scipy's slicing copies them through a general indexer, a tenth of a small model's
+    whirl forms)."""
+    first, last = matrix.indptr[start], matrix.indptr[stop]
+    return scipy.sparse.csr_matrix((matrix.data[first:last], matrix.indices[first:last],
+                                    matrix.indptr[start:stop + 1] - first), shape=(stop - start, matrix.shape[1]))
+
+
+def _block_diagonal(blocks):
+    """``scipy.sparse.block_diag(blocks[d], format="csr")`` of each ``d`` of dense blocks
+    (D, N, r, c), stacked one above the other (D N r, N c), CSR: the same arrays as
+    ``block_diag`` makes (every entry of a block stored, its zeros too; each row's columns
+    increasing), built directly (block_diag goes through COO: some ten times the time, a third of
+    a small flexible model's whirl forms)."""
+    count, r, c = blocks.shape[-3:]
+    columns = np.broadcast_to(c * np.arange(count)[:, None, None] + np.arange(c), blocks.shape)
+    pointers = np.arange(0, blocks.size + 1, c)
+    rows = blocks.size // c
+    index = np.int32 if max(blocks.size, count * c) <= np.iinfo(np.int32).max else np.int64
+    return scipy.sparse.csr_matrix((blocks.reshape(-1), columns.reshape(-1).astype(index), pointers.astype(index)),
+                                   shape=(rows, count * c))
 
 
 def _particles_second_moments(inertias) -> np.ndarray:
@@ -241,7 +268,7 @@ def _node_motions_at_reference(model, shaft, relative):
     count = len(points)
     layout = model.dofs
     shifts = shift_matrices(points, layout.reference_point).transpose(0, 2, 1)               # (N, 6, 6)
-    out = scipy.sparse.block_diag(list(shifts), format="csr") @ relative
+    out = _block_diagonal(shifts) @ relative
     k = layout.n_frame
     if k:
         frame = np.zeros((6 * count, layout.n))

@@ -1247,9 +1247,15 @@ def _halved(stack, speeds, steps, count, more, at, lam, rows, bar, described, me
 
 def _check_roots(stack, speeds, more):
     """The ``more`` lowest roots (P, more) at ``speeds`` (P,) [rad/s] and their weighted shapes
-    (P, more, n), the route's own fallback warnings muted (a check: no news of the sweep's)."""
+    (P, more, n), the route's own fallback warnings muted (a check: no news of the sweep's). The
+    check compares shapes by their MAC alone: a small undamped gyroscopic model's come from its
+    Hermitian matrix's eigenvectors (:func:`._lowest.weighted_lowest_roots`, the roots the same)."""
     from . import _lowest, _lowest_branches
 
+    if not stack.branch_times.shape[1]:
+        found = _lowest.weighted_lowest_roots(stack, speeds, more)
+        if found is not None:
+            return found
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if stack.branch_times.shape[1]:

@@ -835,13 +835,17 @@ class _CampbellLabels:
             # once more, kept off the room straight above such circles (else below), where their
             # labels would stand; kept where that labels more critical speeds and leaves no order
             # line unnamed, else all as they were
-            shown = self._orders_shown()
+            shown, tried = self._orders_shown(), False
             for side in (1, -1):
-                placed = self._place_all(renderer, self._reserved_at(unlabelled, side, renderer))
+                reserved = self._reserved_at(unlabelled, side, renderer)
+                if not reserved:
+                    continue
+                placed, tried = self._place_all(renderer, reserved), True
                 if len(self._unlabelled_critical()) < len(unlabelled) and self._orders_shown() >= shown:
                     break
             else:
-                placed = self._place_all(renderer)
+                if tried:
+                    placed = self._place_all(renderer)
         self._place_note(renderer, placed, self._marker_boxes())
         self._name_mentioned()
         self._place_none_note(renderer, placed, self._marker_boxes())
@@ -893,15 +897,25 @@ class _CampbellLabels:
     def _reserved_at(self, unlabelled, side, renderer):
         """Boxes (axes fraction) the labels of the ``unlabelled`` critical speeds would take
         straight above their circles (``side`` 1) or below them (-1), as :meth:`_place_critical`
-        tries them."""
-        radius_v = 4 * self.points * self.to_v
+        tries them; only those inside the axes, off every other circle, that no curve crosses
+        (but near the circle): the places an order label alone can have taken."""
+        radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
+        margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
+        markers = self._marker_boxes()
         boxes = []
         for k in unlabelled:
             u, v = self.to_axes((self.critical[0][k], self.critical[1][k]))
             w, h = self._size(self.critical_words[k], "xx-small", renderer)
             w, h = w * self.to_u, h * self.to_v
             bottom = v + radius_v if side > 0 else v - radius_v - h
-            boxes.append((u - w / 2, bottom, u + w / 2, bottom + h))
+            box = (u - w / 2, bottom, u + w / 2, bottom + h)
+            own = (u - radius_u, v - radius_v, u + radius_u, v + radius_v)
+            keep = (u - ANCHOR_POINTS * self.points * self.to_u, v - ANCHOR_POINTS * self.points * self.to_v,
+                    u + ANCHOR_POINTS * self.points * self.to_u, v + ANCHOR_POINTS * self.points * self.to_v)
+            if margin_u <= box[0] and box[2] <= 1 - margin_u and margin_v <= box[1] and box[3] <= 1 - margin_v \
+                    and self.curves.free(box, keep) \
+                    and not any(_overlap(box, m, 0.0, 0.0) for m in markers if not np.allclose(m, own)):
+                boxes.append(box)
         return boxes
 
     def _drawn_state(self, renderer):

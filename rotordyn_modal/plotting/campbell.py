@@ -827,22 +827,96 @@ class _CampbellLabels:
         self.curves = CurveMap(ax, renderer, skip=self.leaders + self.critical_leaders + self.key_leaders,
                                units="axes")
         self.renderer, self.mode_map = renderer, None
+        placed = self._place_all(renderer)
+        unlabelled = self._unlabelled_critical() if self.critical_texts else []
+        if self._orders_near(unlabelled, renderer):
+            # an order line's label took the only room beside a critical speed's circle
+            # (compressor_rotor's '1X compressor' over 14388 rpm, 0:15000:151): the order labels
+            # once more, kept off the room straight above such circles (else below), where their
+            # labels would stand; kept where that labels more critical speeds and leaves no order
+            # line unnamed, else all as they were
+            shown, tried = self._orders_shown(), False
+            for side in (1, -1):
+                reserved = self._reserved_at(unlabelled, side, renderer)
+                if not reserved:
+                    continue
+                placed, tried = self._place_all(renderer, reserved), True
+                if len(self._unlabelled_critical()) < len(unlabelled) and self._orders_shown() >= shown:
+                    break
+            else:
+                if tried:
+                    placed = self._place_all(renderer)
+        self._place_note(renderer, placed, self._marker_boxes())
+        self._name_mentioned()
+        self._place_none_note(renderer, placed, self._marker_boxes())
+        self.placed_for = state
+
+    def _place_all(self, renderer, reserved=()):
+        """The mode, order-line and critical-speed labels (not the notes); the order lines'
+        labels (and keys) kept clear of the boxes ``reserved`` (axes fraction). Returns the
+        boxes taken (axes fraction)."""
         self.leader_lines = []          # (start, end) of the leader lines drawn inside the axes
-        placed = []
+        placed = list(reserved)
         # the right-edge labels first: the order lines' keys above the axes keep clear of them
         ends = self._reset_mode_texts()
         inside = [i for i, end in enumerate(ends) if end is not None and end[0] == "inside"]
         for i in inside:
             set_if_changed(self.mode_texts[i], visible=False)
         self._beside(renderer, [i for i, end in enumerate(ends) if end is not None and end[0] == "right"], ends)
-        self._place_orders(renderer, placed)
+        self._place_orders(renderer, placed, smaller=bool(reserved))
+        del placed[:len(reserved)]
         markers = self._marker_boxes()
         self._inside(renderer, inside, ends, placed, markers)
         self._place_critical(renderer, placed, markers)
-        self._place_note(renderer, placed, markers)
-        self._name_mentioned()
-        self._place_none_note(renderer, placed, markers)
-        self.placed_for = state
+        return placed
+
+    def _orders_shown(self):
+        """How many order lines' labels and keys are shown."""
+        return sum(t.get_visible() for t in self.order_texts + self.key_texts)
+
+    def _orders_near(self, unlabelled, renderer):
+        """Whether a shown order line's label stands in the room around the circle of one of the
+        ``unlabelled`` critical speeds: its square widened by its label's size and gap on every
+        side, where the label's first places are (:meth:`_place_critical`)."""
+        if not unlabelled:
+            return False
+        frame = self.ax.get_window_extent(renderer)
+        orders = [t.get_window_extent(renderer) for t in self.order_texts if t.get_visible()]
+        orders = [((b.x0 - frame.x0) * self.to_u, (b.y0 - frame.y0) * self.to_v,
+                   (b.x1 - frame.x0) * self.to_u, (b.y1 - frame.y0) * self.to_v) for b in orders]
+        radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
+        for k in unlabelled:
+            u, v = self.to_axes((self.critical[0][k], self.critical[1][k]))
+            w, h = self._size(self.critical_words[k], "xx-small", renderer)
+            reach_u = radius_u + (w + _NUMBER_GAP_POINTS * self.points) * self.to_u
+            reach_v = radius_v + (h + self.points) * self.to_v
+            if any(_overlap((u - reach_u, v - reach_v, u + reach_u, v + reach_v), o, 0.0, 0.0) for o in orders):
+                return True
+        return False
+
+    def _reserved_at(self, unlabelled, side, renderer):
+        """Boxes (axes fraction) the labels of the ``unlabelled`` critical speeds would take
+        straight above their circles (``side`` 1) or below them (-1), as :meth:`_place_critical`
+        tries them; only those inside the axes, off every other circle, that no curve crosses
+        (but near the circle): the places an order label alone can have taken."""
+        radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
+        margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
+        markers = self._marker_boxes()
+        boxes = []
+        for k in unlabelled:
+            u, v = self.to_axes((self.critical[0][k], self.critical[1][k]))
+            w, h = self._size(self.critical_words[k], "xx-small", renderer)
+            w, h = w * self.to_u, h * self.to_v
+            bottom = v + radius_v if side > 0 else v - radius_v - h
+            box = (u - w / 2, bottom, u + w / 2, bottom + h)
+            own = (u - radius_u, v - radius_v, u + radius_u, v + radius_v)
+            keep = (u - ANCHOR_POINTS * self.points * self.to_u, v - ANCHOR_POINTS * self.points * self.to_v,
+                    u + ANCHOR_POINTS * self.points * self.to_u, v + ANCHOR_POINTS * self.points * self.to_v)
+            if margin_u <= box[0] and box[2] <= 1 - margin_u and margin_v <= box[1] and box[3] <= 1 - margin_v \
+                    and self.curves.free(box, keep) \
+                    and not any(_overlap(box, m, 0.0, 0.0) for m in markers if not np.allclose(m, own)):
+                boxes.append(box)
+        return boxes
 
     def _drawn_state(self, renderer):
         """What the labels' places depend on beyond the labels themselves: the resolution, the
@@ -857,12 +931,12 @@ class _CampbellLabels:
                 tuple(a.get_visible() for a in ax.lines + ax.collections if a not in self._own_lines))
 
     # -- order lines ---------------------------------------------------------------------
-    def _place_orders(self, renderer, placed):
+    def _place_orders(self, renderer, placed, smaller=False):
         ax = self.ax
         bottom, top = ax.get_ylim()
         exits = exits_of_orders(self.result.orders, self.lines, self.slopes, ax.get_xlim(), top, bottom,
                                 lambda x, f: tuple(self.to_axes((x, f))))
-        taken = edge_label_boxes(ax, exits, _FONT, renderer, placed, self.curves, along=True)
+        taken = edge_label_boxes(ax, exits, _FONT, renderer, placed, self.curves, along=True, smaller=smaller)
         for text, item in zip(self.order_texts, taken + [None] * (len(self.order_texts) - len(taken))):
             if item is None:
                 set_if_changed(text, visible=False)

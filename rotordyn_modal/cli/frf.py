@@ -48,7 +48,10 @@ UFF files are read in their own units (g, mm/s, lbf, dataset 164 factors) and co
 
 CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg,speed_rpm,quantity (then unit
 with --units us; quantity is receptance, mobility, accelerance or force): the file reads back as
---measured data of its speed, quantity and units.
+--measured data of its speed, quantity and units. real, imag and magnitude are in the SI unit of
+the row's quantity: receptance m/N, mobility m/s/N, accelerance m/s^2/N, force (--force-outputs)
+N/N, a moment's N m/N, where an input that is a moment divides by N m instead of N (with --units
+us: in/lbf, in/s/lbf, g/lbf, lbf/lbf, lbf in/lbf, named by the row's unit column; docs/units.md).
 
 examples:
   rotordyn-modal frf examples/gear_machine.toml --speed 3000 --freqs 1:60:600 \\

@@ -54,12 +54,14 @@ node k along its axis, or as --mapping FILE.csv (name,node,direction[,sign]) say
 
 CSV columns: mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part (whirl
 forward, backward or none; the terminal table says 'no whirl' for none, as the figures and the
-report do); with a
+report do; real_part is the root's real part in 1/s, in both unit systems: the mode's amplitude
+goes as exp(real_part t), so a positive real part grows; damping_ratio, log_decrement and
+whirl_ratio have no unit); with a
 flexible rotor then shaft_energy,bearing_energy,mount_energy,pedestal_energy,mesh_energy (those
 the model has: the fractions of the mode's strain energy in the shafts, bearings, mounts, pedestals
-and gear meshes, summing to 1) and kind ('bending' when over half of it is in the shafts, else
+and gear meshes, summing to 1, no unit) and kind ('bending' when over half of it is in the shafts, else
 'rigid-body', 'suspension', 'pedestal' or 'gear-mesh', where most of it is: docs/model-file.md,
-"Which modes are bending modes")
+"Which modes are bending modes"). docs/units.md lists every column's unit.
 
 examples:
   rotordyn-modal modes examples/gear_machine.toml --speed 3000 --out modes.csv

@@ -78,6 +78,10 @@ drive_speed_rad_s, then one column per sensor [m], rotor centres [m], each beari
 and moment on the stator (NAME_Fx..NAME_Mz [N, N m], stator axes) and the energies [J].
 u is the displacement of the reference point [m], theta = gamma + psi e the stator's
 transverse Euler vector plus roll angle [rad], model axes.
+The SI names carry no unit, so: u_x, u_y and u_z are in m; theta_x, theta_y and theta_z in rad;
+each sensor's column (named by the sensor) in m; the rotor centres NAME_center_x, NAME_center_y
+and NAME_center_z in m; a bearing's forces NAME_Fx, NAME_Fy and NAME_Fz in N; its moments NAME_Mx,
+NAME_My and NAME_Mz in N m (docs/units.md).
 With --units us (docs/units.md) the displacements u_x..u_z and the sensors are in mil, the
 rotor centres in in, the bearings' forces in lbf and moments in lbf in, the drive torque in
 lbf in, each such column named with its unit (u_x_mil, NAME_center_x_in, NAME_Fx_lbf,

@@ -53,6 +53,15 @@ amplitudes in mil, in/s or g; the converted --table columns end in their unit (_
 _in, _mil ...). The study
 file's numbers, the model file and RESULTS.nc stay SI; speeds stay rpm (rad/s in the files).
 
+--table columns without a unit in their name (docs/units.md), in SI: every speed
+(critical_speed[SOURCE,ORDER,MODE], threshold_speed, instability_speed, unbalance_peak_speed[...],
+force_peak_speed[...]) is in rad/s, not rpm as in every other CSV (as RESULTS.nc, whose variables
+carry a units attribute), with --units us too; unbalance_peak_amplitude[...] is in the sensor's
+quantity, m, m/s or m/s^2 (0-peak); force_peak_amplitude[...] in N, a moment's (NAME:Mx) in N m;
+a parameter's column (its key or name) in the key's SI unit, or none for a factor (apply =
+"scale"). With --units us the amplitudes and a key's values are converted and named with their
+unit (..._mil, ..._lbf, stator.mass_lb).
+
 examples:
   rotordyn-modal study examples/gear_machine.toml --spec examples/mount_tolerance.study.toml \\
       --out tolerance.nc --workers 2 --operating-range 3400:3700 --plot campbell.png

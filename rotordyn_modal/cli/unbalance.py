@@ -57,7 +57,8 @@ rigid|flexible evaluates the RMS vibration velocity of every stator (casing) sen
 same speeds (the whole sweep without --mcs), or over --operating-range where it is given (the
 zones judge steady operation, not the run-up through a mount's resonance; --operating-speed
 leaves them over the checked speeds). The checks table (output, check, speed_rpm,
-value, amplitude, limit, verdict, zone; values in m and m/s) is printed and written by
+value, amplitude, limit, verdict, zone: value and limit in m peak-to-peak for the API probe
+limit, in m/s RMS for the ISO zones, amplitude the word naming that convention) is printed and written by
 --checks FILE.csv; --plot draws the probe limits and a velocity panel with the zones.
 --api-unbalance (with --mcs) replaces the model's [[unbalances]] by the API 617/684
 cases of every rotor, Ua = 2 Ur, Ur = 6350 W/N g mm (= 4 W/N oz in): api-static:ROTOR at its centre
@@ -93,7 +94,13 @@ Units (--units us, docs/units.md): amplitudes in mil, in/s or g (--quantity), fo
 moments in lbf in, in every table (a last column unit gives each row's) and on the figure's axes.
 
 CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg[,amplitude_pkpk|amplitude_rms][,case][,unit]
-orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_deg,precession,precession_ratio
+(amplitude is 0-peak, amplitude_pkpk peak-to-peak and amplitude_rms RMS, each in the unit of the
+sensor's --quantity, m, m/s or m/s^2, or for a --forces row in N, a moment's in N m; with --units
+us in mil, in/s, g, lbf or lbf in, named by the row's unit column)
+orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_deg,precession,precession_ratio[,unit]
+(major and minor are the ellipse's semi-axes, 0-peak, in the pair's --quantity, m, m/s or
+m/s^2; with --units us in mil, in/s or g, named by the row's unit column; precession_ratio has
+no unit). docs/units.md lists every column's unit.
 
 examples:
   rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:601 --sensor acc-top-z \\

@@ -125,7 +125,7 @@ def test_help_names_each_columns_unit(command, name, units):
                                              ("amplitude_rms", "RMS")])
 def test_unbalance_help_gives_each_amplitudes_convention(name, convention):
     """docs/units.md: amplitude, amplitude_pkpk, amplitude_rms are 0-peak, peak-to-peak, RMS."""
-    assert re.search(rf"`amplitude`, `amplitude_pkpk`, `amplitude_rms` \| [^|]*\(0-peak, peak-to-peak, RMS",
+    assert re.search(r"`amplitude`, `amplitude_pkpk`, `amplitude_rms` \| [^|]*\(0-peak, peak-to-peak, RMS",
                      DOCS_UNITS.read_text())
     assert any(re.search(rf"(?<!\w){name} (is )?{convention}", s) for s in _help("unbalance")), name
 

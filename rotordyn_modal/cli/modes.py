@@ -59,9 +59,9 @@ goes as exp(real_part t), so a positive real part grows; damping_ratio, log_decr
 whirl_ratio have no unit); with a
 flexible rotor then shaft_energy,bearing_energy,mount_energy,pedestal_energy,mesh_energy (those
 the model has: the fractions of the mode's strain energy in the shafts, bearings, mounts, pedestals
-and gear meshes, summing to 1, no unit) and kind ('bending' when over half of it is in the shafts, else
-'rigid-body', 'suspension', 'pedestal' or 'gear-mesh', where most of it is: docs/model-file.md,
-"Which modes are bending modes"). docs/units.md lists every column's unit.
+and gear meshes, summing to 1, no unit) and kind ('bending' when over half of it is in the
+shafts, else 'rigid-body', 'suspension', 'pedestal' or 'gear-mesh', where most of it is:
+docs/model-file.md, "Which modes are bending modes"). docs/units.md lists every column's unit.
 
 examples:
   rotordyn-modal modes examples/gear_machine.toml --speed 3000 --out modes.csv

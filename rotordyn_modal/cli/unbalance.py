@@ -58,8 +58,8 @@ same speeds (the whole sweep without --mcs), or over --operating-range where it 
 zones judge steady operation, not the run-up through a mount's resonance; --operating-speed
 leaves them over the checked speeds). The checks table (output, check, speed_rpm,
 value, amplitude, limit, verdict, zone: value and limit in m peak-to-peak for the API probe
-limit, in m/s RMS for the ISO zones, amplitude the word naming that convention) is printed and written by
---checks FILE.csv; --plot draws the probe limits and a velocity panel with the zones.
+limit, in m/s RMS for the ISO zones, amplitude the word naming that convention) is printed
+and written by --checks FILE.csv; --plot draws the probe limits and a velocity panel with the zones.
 --api-unbalance (with --mcs) replaces the model's [[unbalances]] by the API 617/684
 cases of every rotor, Ua = 2 Ur, Ur = 6350 W/N g mm (= 4 W/N oz in): api-static:ROTOR at its centre
 of mass (W its mass) and api-couple:ROTOR at its outermost bearing planes, 180 deg apart

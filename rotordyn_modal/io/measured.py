@@ -9,7 +9,8 @@ CSV layout (one row per output, input and frequency; ``--out`` of ``frf`` writes
 
     speed_rpm,frequency_hz,output,input,real,imag[,coherence][,quantity]
 
-``speed_rpm`` may be left out (0); ``magnitude,phase_deg`` may replace ``real,imag``. A
+``speed_rpm`` may be left out (0); ``magnitude,phase_deg`` may replace ``real,imag``; ``quantity``
+(receptance, mobility or accelerance) is read in any case (``Receptance``). A
 ``unit`` column (what ``frf --out`` writes with ``--units us``: ``in/lbf``, ``g/lbf``; or an SI
 label such as ``m/N``) gives each row's unit: the values are converted to SI and the labels
 give the quantity (they must agree with a ``quantity`` column).
@@ -472,13 +473,16 @@ def _names(table, name) -> np.ndarray:
 
 
 def _csv_quantity(table, path):
+    """The FRF quantity the ``quantity`` column names, in any case (``Receptance``, as test-lab
+    exports write it); ``receptance`` without the column."""
     if "quantity" not in table.columns:
         return "receptance"
     found = {str(v) for v in table["quantity"]}
-    if len(found) != 1 or not found <= set(_QUANTITIES):
+    read = {v.strip().lower() for v in found}
+    if len(read) != 1 or not read <= set(_QUANTITIES):
         raise InputError(f"{path}: quantity column holds {sorted(found)}: expected one of "
-                         f"{', '.join(_QUANTITIES)}, the same in every row")
-    return found.pop()
+                         f"{', '.join(_QUANTITIES)} (in any case), the same in every row")
+    return read.pop()
 
 
 def _csv_units(table, quantity, model, path):

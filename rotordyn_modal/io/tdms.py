@@ -40,15 +40,78 @@ def _tdms_file(path):
 
     check_size(path, "measured", "measured-data file")
     refuse_unsized(path, "a TDMS file")   # a pipe no program writes to blocked npTDMS for ever
+    tdms, said = _read(TdmsFile, path, path)
+    if any("less data" in line or "chunk size" in line for line in said):
+        return _complete_segments(TdmsFile, said, path)
+    _check_complete(tdms, said, path)
+    return tdms
+
+
+def _read(TdmsFile, name, path):
+    """``(tdms, said)``: the file ``name`` read whole by npTDMS and the warnings it logged;
+    whatever npTDMS raises is one ``InputError`` naming ``path``."""
     try:
         with _npTDMS_said() as said:
-            tdms = TdmsFile.read(str(path))
+            tdms = TdmsFile.read(str(name))
     except FileNotFoundError:
         raise InputError(f"{path}: TDMS file not found") from None
     except Exception as error:  # npTDMS raises ValueError, struct errors, ... on a damaged file
         raise InputError(f"{path}: not a readable TDMS file ({type(error).__name__}: {error})") from None
-    _check_complete(tdms, said, path)
-    return tdms
+    return tdms, said
+
+
+def _complete_segments(TdmsFile, said, path):
+    """The file cut short inside its last segment's data read up to the end of its last complete
+    segment (from a copy of those bytes in a temporary folder; the file itself is never changed),
+    with one warning line saying how many samples a channel were kept. npTDMS read the cut
+    segment's partial data to channels of different lengths. Refused when no segment before the
+    cut one is complete."""
+    import tempfile
+    import warnings
+    from pathlib import Path
+
+    end = _complete_end(path)
+    if end == 0:
+        raise InputError(f"{path}: the file is cut short inside its first segment's data (npTDMS: {said[0]}): no "
+                         "complete segment to read; expected a complete TDMS file (a recording stopped while "
+                         "writing, or a copy cut off)")
+    with open(path, "rb") as handle:
+        data = handle.read(end)
+    with tempfile.TemporaryDirectory() as folder:
+        copy = Path(folder) / "complete.tdms"
+        copy.write_bytes(data)
+        kept, again = _read(TdmsFile, copy, path)
+    if again or not list(kept.groups()):   # the lead-ins walked wrongly: say the first refusal
+        raise InputError(f"{path}: the file is cut short inside its last segment's data (npTDMS: {said[0]}): "
+                         "expected a complete TDMS file (a recording stopped while writing, or a copy cut off)")
+    lengths = sorted({len(c) for g in kept.groups() for c in g.channels()})
+    warnings.warn(f"{path}: the file is cut short inside its last segment's data (npTDMS: {said[0]}): left out, "
+                  f"the complete segments before it read ({'/'.join(map(str, lengths))} samples a channel)",
+                  stacklevel=4)
+    return kept
+
+
+def _complete_end(path) -> int:
+    """The byte offset where the last complete segment of a TDMS file ends (0: none is). Each
+    segment opens with a 28-byte lead-in: ``TDSm``, the table-of-contents mask (bit 14 big
+    endian), the version, then the offset of the next segment from the end of this lead-in (all
+    ones: a segment LabVIEW never closed)."""
+    import os
+    import struct
+
+    size, end = os.path.getsize(path), 0
+    with open(path, "rb") as handle:
+        while True:
+            handle.seek(end)
+            lead = handle.read(28)
+            if len(lead) < 28 or lead[:4] != b"TDSm":
+                return end
+            order = ">" if struct.unpack("<l", lead[4:8])[0] & (1 << 14) else "<"
+            offset = struct.unpack(order + "Q", lead[12:20])[0]
+            following = end + 28 + offset
+            if offset == 0xFFFFFFFFFFFFFFFF or following > size:
+                return end
+            end = following
 
 
 @contextlib.contextmanager
@@ -79,15 +142,12 @@ def _npTDMS_said():
 
 
 def _check_complete(tdms, said, path) -> None:
-    """Refuse a TDMS file cut short inside its last segment's data (npTDMS reads that segment's
-    channels to different lengths) or in its first segment; warn, in one line, of one cut in a
-    later segment's metadata (npTDMS leaves that segment out: the complete ones are read)."""
+    """Refuse a TDMS file cut short in its first segment's metadata; warn, in one line, of one cut
+    in a later segment's metadata (npTDMS leaves that segment out: the complete ones are read).
+    A cut inside a segment's data is :func:`_complete_segments`'s."""
     if not said:
         return
     groups = list(tdms.groups())
-    if any("less data" in line or "chunk size" in line for line in said):
-        raise InputError(f"{path}: the file is cut short inside its last segment's data (npTDMS: {said[0]}): "
-                         "expected a complete TDMS file (a recording stopped while writing, or a copy cut off)")
     if any("incomplete" in line for line in said):
         if not groups:
             raise InputError(f"{path}: the file is cut short in its first segment (npTDMS: {said[0]}): no channel "

@@ -521,13 +521,16 @@ def _check_complete(path):
     """Refuse a truncated or padded ASCII file: datasets sit between pairs of ``-1`` lines. A file
     whose last dataset is cut short (no ``-1`` closes it) after at least one complete dataset
     draws one warning line naming that dataset and its first line, and the complete ones are
-    read, as a test-lab export cut in its last dataset is still worth reading.
+    read, as a test-lab export cut in its last dataset is still worth reading. Text after the
+    last dataset (an export's ``end of export`` line) draws one warning line naming the line it
+    starts at, and the datasets are read.
 
     Returns
     -------
     int or None
         The count of the file's lines that hold its complete datasets when the last one is cut
-        short (read those: :func:`_pyuff_read`'s ``lines``), else None (read the whole file).
+        short or text follows it (read those: :func:`_pyuff_read`'s ``lines``), else None (read
+        the whole file).
     """
     from .limits import check_size, refuse_compressed, refuse_unsized, unreadable
 
@@ -554,10 +557,25 @@ def _check_complete(path):
     if len(marks) % 2 and len(marks) > 1:
         _warn_cut_short(path, lines, marks)
         return marks[-2] + 1
+    if tail and marks and not len(marks) % 2:
+        _warn_trailing_text(path, lines, marks)
+        return marks[-1] + 1
     if len(marks) % 2 or tail:
         line = (marks[-1] + 2) if marks else 1
         raise InputError(f"{path}: incomplete Universal File: a dataset is not closed by a '    -1' line "
                          f"(from line {line}): the file is truncated or has trailing text")
+
+
+def _warn_trailing_text(path, lines, marks) -> None:
+    """The warning about text after a file's last dataset (closed at line ``marks[-1] + 1``):
+    a note or an end marker an export wrote after its datasets, left out."""
+    import warnings
+
+    start = next(k for k in range(marks[-1] + 1, len(lines)) if lines[k].strip())
+    count = len(marks) // 2
+    warnings.warn(f"{path}: text after the last dataset, from line {start + 1} ({lines[start].strip()[:40]!r}; "
+                  f"no dataset between '    -1' lines): left out, the {count} dataset{'s' if count > 1 else ''} "
+                  "before it read", stacklevel=4)
 
 
 def _warn_cut_short(path, lines, marks) -> None:

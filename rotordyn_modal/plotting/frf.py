@@ -951,11 +951,14 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=
     for row in peaks.itertuples(index=False):
         source = getattr(row, "case", row.source)          # a response to API cases: sources are cases
         i, j = index.get(row.output), sources.get(source)
-        if i is None or j is None or not np.isfinite(row.amplification_factor)                 or row.amplification_factor < _AF_MARKED                 or row.amplitude < _PEAK_SHARE * np.nanmax(result.amplitude[i, j]):
+        if i is None or j is None or np.isnan(row.amplification_factor)                 or row.amplification_factor < _AF_MARKED                 or row.amplitude < _PEAK_SHARE * np.nanmax(result.amplitude[i, j]):
             continue
         speed = f"{rpm_text(row.speed_rpm)} rpm" if unit == "rpm" else \
             f"{row.speed_rpm * rpm_to_unit:.4g} {'Hz' if unit == 'hz' else unit}"
-        text = f"AF {row.amplification_factor:.1f} at {speed} (1X {source})"
+        # an undamped mode's peak is unbounded: 'AF inf', as the summary and the AF table write it,
+        # near the swept speed where the analysis found it (between that speed's neighbours)
+        at = "near" if np.isinf(row.amplification_factor) else "at"
+        text = f"AF {row.amplification_factor:.1f} {at} {speed} (1X {source})"
         if np.isfinite(row.separation_margin_pct):
             text += f"\nSM {row.separation_margin_pct:.0f} % (API {row.required_margin_pct:.0f} %)"
         chosen.append((row.speed_rpm * rpm_to_unit, row.amplitude * factor, text, colours[i, j], source))
@@ -1002,6 +1005,9 @@ def _label_peaks(ax, chosen, renderer, top=np.nan):
 
 #: the font size of the key of the peaks labelled by a number
 _KEY_FONT = "x-small"
+#: share of its measured width by which the key's box exceeds its widest line (a text measured at
+#: one resolution may draw a few per cent wider at another)
+_KEY_GROWTH = 0.05
 
 
 def _keyed_labels(ax, chosen, drawn, place, renderer):
@@ -1054,7 +1060,10 @@ def _place_key(ax, texts, colours, labels, renderer) -> list:
     fig = ax.figure
     sizes = [text_size(fig, t, _KEY_FONT, renderer) for t in texts]
     pad, gap = 3.0 * fig.dpi / 72.0, 1.0 * fig.dpi / 72.0           # around the key, between its lines
-    w, h = max(s[0] for s in sizes) + 2 * pad, sum(s[1] + gap for s in sizes) - gap + 2 * pad
+    # room for the text to grow where the report lays the figure out again at its own resolution:
+    # fan_on_bearings' key ran 2 px under a label that the key had cleared at 100 dpi
+    w = max(s[0] for s in sizes) * (1 + _KEY_GROWTH) + 2 * pad
+    h = sum(s[1] + gap for s in sizes) - gap + 2 * pad
     frame = ax.get_window_extent(renderer)
     curves = CurveMap(ax, renderer)
     boxes = [tuple(label.get_window_extent(renderer).extents) for label in labels]

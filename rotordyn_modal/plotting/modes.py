@@ -93,7 +93,8 @@ def _translation_scale(result, units: str):
 _WIDE_BARS, _FIRST_WIDE, _WIDEST = 24, 6, 24.0
 
 
-def plot_modes(result, title: str | None = None, modes=None, columns: int | None = None, units: str = "si"):
+def plot_modes(result, title: str | None = None, modes=None, columns: int | None = None, units: str = "si",
+               max_width: float | None = None):
     """Bar chart of each oscillatory mode's coordinates: ``|shape|`` (translations in m, or in in
     with ``units='us'``; rotations in rad) divided by the mode's largest, grouped by body (each group named above
     its bars; the stator's names the rotors rigidly attached to it), titled with the whirl in
@@ -109,11 +110,15 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
         has more than :data:`_WIDE_BARS` bars (a flexible rotor's node coordinates: the title
         says so).
     columns : int, optional
-        Panels per row (default up to 3, as many as fit :data:`_WIDEST` inches).
+        Panels per row (default up to 3, as many as fit ``max_width``).
     units : {'si', 'us'}
         Unit of the translations before the division (docs/units.md): m (SI) or in (US
         customary). A mode that both translates and rotates has other bars in either: a
         translation of 0.0254 m is 1 in, its bar 39.37 times as high against a rotation's.
+    max_width : float, optional
+        Widest the default columns make the figure [in] (default :data:`_WIDEST`): a page that
+        shrinks a wider figure shrinks its bar labels with it (the report: 10 in, one panel a row
+        for a 16-coordinate machine, whose two panels at 13 in made its labels 8 px high).
 
     Returns
     -------
@@ -130,7 +135,8 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
     modes = oscillatory[np.asarray(numbers, dtype=int) - 1]
     groups = _groups(result)
     width = 3.2 if len(labels) <= 6 else 0.35 * len(labels) + 1.0
-    cols = max(1, min(columns or max(1, min(3, int(_WIDEST // width))), len(modes)))
+    widest = _WIDEST if max_width is None else max_width
+    cols = max(1, min(columns or max(1, min(3, int(widest // width))), len(modes)))
     rows = max(1, int(np.ceil(len(modes) / cols)))
     fig, axes = plt.subplots(rows, cols, figsize=(width * cols, 2.6 * rows), layout="constrained",
                              squeeze=False)
@@ -141,7 +147,7 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
         magnitude = np.abs(result.shapes[m]) * scale
         ax.bar(np.arange(len(labels)), magnitude / magnitude.max(), color="tab:blue", tick_label=labels)
         if len(labels) > 6:
-            ax.tick_params(axis="x", labelrotation=90, labelsize="x-small")
+            ax.tick_params(axis="x", labelrotation=90, labelsize="small")
         ax.set_title(f"mode {number}: {result.frequencies_hz[m]:.2f} Hz, ζ={small_number(result.damping_ratios[m])}\n"
                      f"{WHIRL_STYLE[result.whirl[m]]['label']} (ratio {small_number(result.whirl_ratios[m], sign=True)})",
                      fontsize="small")

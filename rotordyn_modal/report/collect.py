@@ -1576,8 +1576,13 @@ def _iso(data):
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of(
         name, verdict, "iso", f"governing: {worst.output} at {rpm_text(worst.speed_rpm)} rpm; {iso_span(checks)}",
-        quantities=[("value", "{0:.3g} {unit} RMS (zone %s)" % worst.zone, "velocity", (worst.value,)),
-                    ("limit", "<= {0:.3g} {unit} RMS (zone B)", "velocity", (worst.limit,))]))
+        quantities=[("value", "{0:.%dg} {unit} RMS (zone %s)" % (VELOCITY_DIGITS, worst.zone), "velocity", (worst.value,)),
+                    ("limit", "<= {0:.%dg} {unit} RMS (zone B)" % VELOCITY_DIGITS, "velocity", (worst.limit,))]))
+
+
+#: significant digits of an ISO 20816-3 casing velocity and zone boundary, in the summary, the zones'
+#: sentence and the checks table alike: 2.8 mm/s is 0.1102 in/s, which 3 digits wrote as 0.11
+VELOCITY_DIGITS = 4
 
 
 def _level2_note(result) -> str:

@@ -15,8 +15,8 @@ import numpy as np
 from ..analysis.unbalance_checks import sensor_groups
 from ..unbalance_standards import amplitude_factor, amplitude_label, largest_margins_text
 from ..units import check_system, unit_scale
-from .collect import (AMPLITUDE_WORDS, LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, UCS_STIFFNESS, from_pkpk,
-                      shown_scale)
+from .collect import (AMPLITUDE_WORDS, LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, UCS_STIFFNESS, VELOCITY_DIGITS,
+                      from_pkpk, shown_scale)
 
 __all__ = ["render_html", "figure_png", "margins_table"]
 
@@ -52,7 +52,11 @@ $sections
 """)
 
 
-def figure_png(fig, dpi: int = 110) -> str:
+#: the report page's widest figure [px] (the body's max-width) and the figures' resolution [dpi]
+PAGE_WIDTH_PX, FIGURE_DPI = 1100, 110
+
+
+def figure_png(fig, dpi: int = FIGURE_DPI) -> str:
     """A ``data:image/png;base64,...`` URI of a matplotlib figure (the figure is closed).
 
     A figure with a layout engine (constrained layout) is laid out once, at ``dpi``, and then
@@ -250,7 +254,7 @@ def _shaft_statics(result, units) -> list:
 
     scales = statics_scales(units)          # the units of the figure and of the static command's summary
     to_length, length_unit = scales["length"]
-    rows = []
+    rows, loaded = [], False
     for shaft in shafts:
         for quantity, what in (("sag", "sag"), ("shear", "shear force"), ("moment", "bending moment"),
                                ("stress", "bending stress"), ("torque", "torque"), ("von_mises", "von Mises stress")):
@@ -260,6 +264,12 @@ def _shaft_statics(result, units) -> list:
             where = ([shaft.label(i, quantity), f"{shaft.axis_names[2]} = {_g(shaft.position[i] * to_length)}"]
                      if value != 0 else ["none (0 everywhere)", ""])
             rows.append([shaft.rotor, f"largest {what} [{unit}]", _g(value * factor), *where])
+            loaded = loaded or value != 0
+    # every quantity 0 along every shaft (no gravity, no torque): a sentence, not a page of zeros
+    figure = (_figure(result.plot_shafts(units=units),
+                      "Figure: static sag relative to the stator, shear force and bending moment along each "
+                      "flexible shaft, both bending planes; bearings and disks marked (docs/static.md).",
+                      "Shaft sag, shear force and bending moment") if loaded else _NO_SHAFT_LOAD)
     return ["<h3>Flexible shafts: sag, shear force, bending moment and stress</h3>",
             "<p>Stresses at the outer fibre of the section: bending <i>&sigma; = M c / I</i>, torsion "
             "<i>&tau; = T c / J</i> (the torque of the loads' moments about the spin axis; none without "
@@ -267,10 +277,12 @@ def _shaft_statics(result, units) -> list:
             "material's allowable_stress (the criterion above; docs/static.md).</p>",
             _table(rows, [("rotor", True), ("quantity", True), ("value", False), ("station", True),
                           (f"position, model axes [{length_unit}]", True)]),
-            _figure(result.plot_shafts(units=units),
-                    "Figure: static sag relative to the stator, shear force and bending moment along each "
-                    "flexible shaft, both bending planes; bearings and disks marked (docs/static.md).",
-                    "Shaft sag, shear force and bending moment")]
+            figure]
+
+
+#: in place of the shaft diagram when no shaft carries a static load
+_NO_SHAFT_LOAD = ('<p class="note">No static load acts on the flexible shafts: their sag, shear force, bending '
+                  "moment and stress are 0 everywhere, so no diagram is drawn.</p>")
 
 
 def _at_round_off(values, relative: float = 1e-9):
@@ -453,10 +465,10 @@ def _modes(data, units) -> str:
                                title=f"Mode shapes at the MCS, {mcs:.6g} rpm")
         what = "deflected shaft lines along the axis (both planes at phase 0, the orbits' largest excursion shaded)"
     else:
-        # two panels a row when the machine has many coordinates: their labels stay readable
+        # as many panels a row as the page holds unshrunk: their bar labels stay readable
         # two lines: one mode's panel is 3.2 in wide, and the title on one line ran off both its sides
         fig = result.plot(title=f"Mode shapes at the MCS\n{mcs:.6g} rpm, |shape| normalised", modes=numbers,
-                          columns=3 if len(result.dof_names) <= 6 else 2, **_units(units))
+                          max_width=PAGE_WIDTH_PX / FIGURE_DPI, **_units(units))
         what = "each coordinate's share of the mode (|shape|, normalised)"
     _renumbered(fig, {number: mode_label(number, label) for number, label in zip(numbers, tracked)})
     return "\n".join([
@@ -586,13 +598,13 @@ def _scaling_notes(scaling):
     return [head for head, _, _ in parts], text
 
 
-def _check_table(table, scale, unit) -> str:
+def _check_table(table, scale, unit, digits=4) -> str:
     """The API probe limits or the ISO zones, one row per output (and case); the zone column only
     where a row has a zone (the ISO checks: an API probe's is empty)."""
     has_case = "case" in table
     zoned = bool((table["zone"].fillna("").astype(str) != "").any())
-    rows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6), _g(r.value * scale),
-             _g(r.limit * scale), *([r.zone] if zoned else []), _verdict_cell(r.verdict)] for r in table.itertuples()]
+    rows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6), _g(r.value * scale, digits),
+             _g(r.limit * scale, digits), *([r.zone] if zoned else []), _verdict_cell(r.verdict)] for r in table.itertuples()]
     return _table(rows, [("output", True), *([("case", True)] if has_case else []), ("speed [rpm]", False),
                          (f"value [{unit}]", False), (f"limit [{unit}]", False), *([("zone", True)] if zoned else []),
                          ("verdict", True)])
@@ -743,9 +755,10 @@ def _iso(data, units) -> str:
     return "\n".join([_heading("iso"),
                       f"<p>RMS vibration velocity of every casing sensor, largest "
                       f"{escape(_iso_speeds(checks))}, "
-                      f"{escape(checks.iso_class)}: zone boundaries A/B {low:.3g}, B/C {mid:.3g}, C/D {high:.3g} {unit} "
+                      f"{escape(checks.iso_class)}: zone boundaries A/B {_g(low, VELOCITY_DIGITS)}, B/C {_g(mid, VELOCITY_DIGITS)}, "
+                      f"C/D {_g(high, VELOCITY_DIGITS)} {unit} "
                       "RMS; pass in zones A and B (docs/standards.md).</p>",
-                      _check_table(table, factor, f"{unit} RMS")])
+                      _check_table(table, factor, f"{unit} RMS", VELOCITY_DIGITS)])
 
 
 def _iso_speeds(checks) -> str:

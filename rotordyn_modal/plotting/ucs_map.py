@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -268,6 +269,25 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
     return False
 
 
+@contextmanager
+def _at_saved_dpi(fig):
+    """``fig`` at :data:`SAVED_DPI` inside the block (labels are placed and measured as saved),
+    its own dpi back after it, also where the block raises."""
+    dpi = fig.get_dpi()
+    fig.set_dpi(SAVED_DPI)
+    try:
+        yield
+    finally:
+        fig.set_dpi(dpi)
+
+
+def _circle_centres(ax, labels, first, count) -> np.ndarray:
+    """The centres [pixels at :data:`SAVED_DPI`] of the crossings' circles ``labels[first:first +
+    count]`` (their data points), shape (count, 2)."""
+    with _at_saved_dpi(ax.figure):
+        return ax.transData.transform(np.array([labels[k][:2] for k in range(first, first + count)], float))
+
+
 #: how many of the nearest other circles :func:`_join_long_labels` tries to join
 _JOINED = 2
 
@@ -277,13 +297,7 @@ def _nearest_others(ax, labels, crossings, indices) -> list:
     not among them, within :data:`_NEAR` points at :data:`SAVED_DPI`: :data:`_JOINED` at most,
     nearest first."""
     first, count = crossings
-    fig = ax.figure
-    dpi = fig.get_dpi()
-    fig.set_dpi(SAVED_DPI)
-    try:
-        centres = ax.transData.transform(np.array([labels[k][:2] for k in range(first, first + count)], float))
-    finally:
-        fig.set_dpi(dpi)
+    centres = _circle_centres(ax, labels, first, count)
     mine = np.isin(np.arange(first, first + count), indices)
     if mine.all() or not mine.any():
         return []
@@ -309,15 +323,9 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
     if longest <= _LONG_LEADER:
         return
     index = [k for k in range(first, first + count) if labels[k][2] == text.split("/")[0]]
-    fig = ax.figure
-    dpi = fig.get_dpi()
-    fig.set_dpi(SAVED_DPI)
-    try:
-        centres = ax.transData.transform(np.array([labels[k][:2] for k in range(first, first + count)], float))
-    finally:
-        fig.set_dpi(dpi)
     if len(index) != 1 or "/" in text:
         return
+    centres = _circle_centres(ax, labels, first, count)
     own = index[0] - first
     distance = np.hypot(*(centres - centres[own]).T) * 72.0 / SAVED_DPI
     distance[own] = np.inf
@@ -360,9 +368,7 @@ def _leader_lengths(ax, drawn) -> dict:
     from ._labels import laid_out_renderer
 
     fig = ax.figure
-    dpi = fig.get_dpi()
-    fig.set_dpi(SAVED_DPI)
-    try:
+    with _at_saved_dpi(fig):
         renderer = laid_out_renderer(fig)
         out = {}
         for text in drawn:
@@ -370,8 +376,6 @@ def _leader_lengths(ax, drawn) -> dict:
             anchor = ax.transData.transform(text.xy)
             box = np.array(Text.get_window_extent(text, renderer).extents)
             out[text.get_text()] = float(np.hypot(*(_nearest(box, anchor) - anchor))) * 72.0 / SAVED_DPI
-    finally:
-        fig.set_dpi(dpi)
     return out
 
 
@@ -419,9 +423,7 @@ def _shorter_leaders(ax, drawn, points, members=None):
     if not drawn:
         return
     fig = ax.figure
-    dpi = fig.get_dpi()
-    fig.set_dpi(SAVED_DPI)
-    try:
+    with _at_saved_dpi(fig):
         renderer = laid_out_renderer(fig)
         scale = SAVED_DPI / 72.0
         frame = ax.get_window_extent(renderer)
@@ -458,8 +460,6 @@ def _shorter_leaders(ax, drawn, points, members=None):
                 text.xy = point
                 text.xyann = ((place[0] - anchor[0]) / scale, (place[1] - anchor[1]) / scale)
                 text.arrowprops["relpos"] = ((end[0] - place[0]) / w, (end[1] - place[1]) / h)
-    finally:
-        fig.set_dpi(dpi)
 
 
 def _nearest(box, point):
@@ -563,9 +563,7 @@ def _crossing_leaders(ax, drawn, members, centres):
     from ._labels import _drawn_segments, laid_out_renderer
 
     fig = ax.figure
-    dpi = fig.get_dpi()
-    fig.set_dpi(SAVED_DPI)
-    try:
+    with _at_saved_dpi(fig):
         renderer = laid_out_renderer(fig)
         frame = ax.get_window_extent(renderer)
         skip = [line for line in ax.get_lines() if not str(line.get_label())[:1].isdigit()]
@@ -586,8 +584,6 @@ def _crossing_leaders(ax, drawn, members, centres):
             way = end - start
             t = np.clip((others - start) @ way / max(float(way @ way), 1e-12), 0.0, 1.0)
             through += bool(np.any(np.hypot(*(start + t[:, None] * way - others).T) < radius - 0.5))
-    finally:
-        fig.set_dpi(dpi)
     return crossing, through
 
 

@@ -355,17 +355,19 @@ def _low_rotor_mode_lines(model) -> list[str]:
     with the stator held (its own modes on the suspensions are :func:`_low_mode_lines`'), of
     the symmetric part of the stiffness, whose strain energy lies mostly in the supports, not in
     a flexible shaft's bending (a long thin shaft bends at 0.2 Hz between rigid bearings: a
-    legal mode, not a unit slip). A model with speed-dependent bearings (journal bearings, speed
-    tables), whose stiffness at rest is not its running one, is left out."""
+    legal mode, not a unit slip). Bearings tabulated over speed count with their coefficients at
+    their table's lowest speed (a table in N/mm is so at every speed). A model with journal
+    bearings is left out: a film has no stiffness at rest, and its running one follows the speed
+    (docs/model-file.md, "Warnings")."""
     import scipy.linalg
 
     from .assembly import shaft_stiffness
 
-    if any(b.coefficients.kind != "constant" for b in model.bearings):
+    if any(b.coefficients.kind == "journal" for b in model.bearings):
         return []
     first = model.dofs.n_frame
     stiffness, _ = constant_stiffness_damping(model)
-    stiffness = stiffness[first:, first:]
+    stiffness = (stiffness + _lowest_table_stiffness(model))[first:, first:]
     if not stiffness.size:
         return []
     mass = mass_matrix(model)[first:, first:]
@@ -393,10 +395,24 @@ def _low_rotor_mode_lines(model) -> list[str]:
     rotor = _coordinate_rotor(model, first + int(np.argmax(np.abs(energy))))
     held_by = [f"[bearings.{visible(b.name)}]" for b in model.bearings if b.rotor == rotor]
     at = f"at {lowest:.3g} Hz" if values[k] > noise else f"below {lowest:.2g} Hz (how far, round-off hides)"
+    when = ("at their tables' lowest speeds" if any(b.coefficients.kind == "table" for b in model.bearings
+                                                     if b.rotor == rotor) else "at rest")
     return [f"{model.source}: rotor {visible(rotor)!r} has a rigid-body mode {at} in its bearings "
-            f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; at rest, the stator held), below "
+            f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; {when}, the stator held), below "
             f"{LOWEST_MOUNT_FREQUENCY:g} Hz, where bearings hold a rotor far stiffer: a stiffness in N/mm given as "
             "N/m, or a mass in g given as kg, puts modes 32 times too low"]
+
+
+def _lowest_table_stiffness(model) -> np.ndarray:
+    """The stiffness [N/m, N m/rad] of the bearings tabulated over speed, each at its table's
+    first (lowest) speed, shape (n, n); zeros without such bearings."""
+    n = model.dofs.n
+    stiffness = np.zeros((n, n))
+    for bearing in model.bearings:
+        if bearing.coefficients.kind == "table":
+            rows, moves = bearing_motion(model, bearing)
+            stiffness[rows, rows] += moves.T @ bearing.coefficients.stiffness[0] @ moves
+    return stiffness
 
 
 def _coordinate_rotor(model, index: int) -> str:

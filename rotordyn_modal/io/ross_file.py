@@ -303,7 +303,7 @@ def _check_element_keys(source: str, elements: dict) -> None:
     ``odl``, ``kyyy`` for ``kyy``: read, the element would take ROSS's default or be refused as
     missing the key); say in one warning line which other keys of shaft, disk and material
     tables are not read (bearing tables hold what ROSS's bearing subclasses save)."""
-    from ..model._table import unknown_key
+    from ..model._table import close_key
 
     unread = []
     for cls, tables in elements.items():
@@ -318,10 +318,10 @@ def _check_element_keys(source: str, elements: dict) -> None:
                         continue
                     absent = [a for a in allowed if a not in keys]
                     same = [a for a in absent if a.lower() == str(name).lower()]   # 'Kxx' for 'kxx'
-                    said = f" (unknown key; did you mean {same[0]!r}?)" if same else unknown_key(name, absent)
-                    if "did you mean" in said:
+                    meant = same[0] if same else close_key(name, absent)
+                    if meant is not None:
                         raise ModelError(source, f"{where} {shown_text(str(name))}", keys[name],
-                                         "one of the keys ROSS saves in a " + cls + said)
+                                         f"one of the keys ROSS saves in a {cls} (unknown key; did you mean {meant!r}?)")
                     if cls not in BEARING_CLASSES:
                         unread.append(f"{where} {shown_text(str(name))}")
     if unread:
@@ -352,16 +352,17 @@ def _warn_version(source: str, version) -> None:
 
 def _check_parameters(source: str, data: dict) -> None:
     """Refuse the rotor-level damping ROSS adds to the matrices (not modelled here)."""
-    from ..model._table import unknown_key
+    from ..model._table import close_key
 
     parameters = data.get("parameters", {})
     if not isinstance(parameters, dict):
         raise ModelError(source, "parameters", parameters, "a table")
     for name in parameters:     # 'alpah' for 'alpha': proportional damping lost without a word
-        said = unknown_key(name, [k for k in _PARAMETER_KEYS if k not in parameters])
-        if name not in _PARAMETER_KEYS and "did you mean" in said:
+        meant = None if name in _PARAMETER_KEYS else close_key(name, [k for k in _PARAMETER_KEYS
+                                                                         if k not in parameters])
+        if meant is not None:
             raise ModelError(source, f"[parameters] {shown_text(str(name))}", parameters[name],
-                             "one of the keys ROSS saves in [parameters]" + said)
+                             f"one of the keys ROSS saves in [parameters] (unknown key; did you mean {meant!r}?)")
     for key in ("alpha", "beta", "default_damping_ratio"):
         value = parameters.get(key, 0.0)
         if _number(source, f"[parameters] {key}", value) != 0.0:

@@ -9,7 +9,7 @@ import numpy as np
 from .components import is_finite_number
 from ..errors import ModelError
 
-__all__ = ["Table", "unknown_key", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
+__all__ = ["Table", "unknown_key", "close_key", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
            "visible", "visible_names", "semidefinite_problem", "plain", "line_break_problem"]
 
 #: largest magnitude of a number in a model description (SI units): no machine needs more, and
@@ -120,13 +120,28 @@ class Table:
         return vec
 
 
-def unknown_key(key, allowed) -> str:
-    """The end of an unknown key's message: ``" (unknown key)"``, with the allowed key it is
-    probably a typo of (``stifness`` -> ``" (unknown key; did you mean 'stiffness'?)"``)."""
+def close_key(key, allowed) -> str | None:
+    """The key of ``allowed`` that ``key`` is probably a typo of (``stifness`` -> ``'stiffness'``),
+    or None: the closest by :func:`difflib.get_close_matches` at a similarity of 0.75 or more.
+
+    Parameters
+    ----------
+    key : str
+        A key the table holds and ``allowed`` lacks.
+    allowed : iterable of str
+    """
     import difflib
 
     close = difflib.get_close_matches(str(key), [str(a) for a in allowed], n=1, cutoff=0.75)
-    return f" (unknown key; did you mean {close[0]!r}?)" if close else " (unknown key)"
+    return close[0] if close else None
+
+
+def unknown_key(key, allowed) -> str:
+    """The end of an unknown key's message: ``" (unknown key)"``, with the allowed key it is
+    probably a typo of (``stifness`` -> ``" (unknown key; did you mean 'stiffness'?)"``,
+    :func:`close_key`)."""
+    close = close_key(key, allowed)
+    return f" (unknown key; did you mean {close!r}?)" if close is not None else " (unknown key)"
 
 
 def non_number(value, deepest: int = 3) -> str | None:

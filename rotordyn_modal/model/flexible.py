@@ -608,22 +608,51 @@ def _moved_stations(named, z, spacing) -> tuple:
 #: machine's shaft is this thick (kilns and tube mills reach ~6 m), while a shaft of 10 to
 #: 1000 mm typed in mm for m lands here
 PLAUSIBLE_SHAFT_DIAMETER = 10.0
+#: [m] length of a flexible rotor's shaft above which a model draws a warning: the longest
+#: machine rotors, turbine-generator trains, run 50 to 70 m, while a rotor of 0.1 to 10 m given
+#: in mm for m lands at 100 m to 10 km
+PLAUSIBLE_SHAFT_LENGTH = 100.0
+#: a section longer than this many of its outer diameters draws the same warning (a single
+#: short section in mm: 50 mm of a 10 mm shaft typed as 50 is 5000 diameters; line shafts and
+#: quills run below 200)
+PLAUSIBLE_SLENDERNESS = 1000.0
 
 
 def size_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     """One warning line for ``shaft`` when a section (or layer) is thicker than
     :data:`PLAUSIBLE_SHAFT_DIAMETER`, most likely a diameter in mm typed for m: the thickest
     named, with the count of the others."""
+    lines = _length_lines(source, rotor, shaft)
     thick = [(max(tube.outer), where) for i, section in enumerate(shaft.sections)
              for where, tube in ((f"shaft.{i}", section), *((f"shaft.{i}.layers.{k}", layer)
                                                           for k, layer in enumerate(section.layers)))
              if max(tube.outer) > PLAUSIBLE_SHAFT_DIAMETER]
     if not thick:
-        return []
+        return lines
     diameter, where = max(thick)
     others = f" (and {len(thick) - 1} other tubes over it)" if len(thick) > 1 else ""
-    return [f"{source}: [rotors.{visible(rotor)}.{where}] outer_diameter = {diameter:g}{others}: a shaft over "
-            f"{PLAUSIBLE_SHAFT_DIAMETER:g} m thick; a diameter in mm typed for m? (model files are SI)"]
+    return lines + [f"{source}: [rotors.{visible(rotor)}.{where}] outer_diameter = {diameter:g}{others}: a shaft "
+                    f"over {PLAUSIBLE_SHAFT_DIAMETER:g} m thick; a diameter in mm typed for m? (model files are SI)"]
+
+
+def _length_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
+    """One warning line for ``shaft`` when it is longer than :data:`PLAUSIBLE_SHAFT_LENGTH` or a
+    section is longer than :data:`PLAUSIBLE_SLENDERNESS` of its outer diameters, most likely
+    lengths in mm typed for m: the longest section named, with the shaft's length."""
+    slender = [i for i, s in enumerate(shaft.sections) if s.length > PLAUSIBLE_SLENDERNESS * max(s.outer)]
+    total = shaft.length
+    if not slender and not total > PLAUSIBLE_SHAFT_LENGTH:
+        return []
+    i = max(slender or range(len(shaft.sections)), key=lambda k: shaft.sections[k].length)
+    section = shaft.sections[i]
+    count = len(shaft.sections)
+    others = f" (and {count - 1} other section{'s' if count > 2 else ''})" if count > 1 else ""
+    why = (f"a shaft {total:.4g} m long, over {PLAUSIBLE_SHAFT_LENGTH:g} m (turbine-generator trains, the longest "
+           "rotors, run 50 to 70 m)" if total > PLAUSIBLE_SHAFT_LENGTH else
+           f"{section.length / max(section.outer):.3g} times its outer diameter {max(section.outer):g} m, over "
+           f"{PLAUSIBLE_SLENDERNESS:g} (line shafts run below 200)")
+    return [f"{source}: [rotors.{visible(rotor)}.shaft.{i}] length = {section.length:g}{others}: {why}; "
+            "lengths in mm typed for m? (model files are SI)"]
 
 
 def merge_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:

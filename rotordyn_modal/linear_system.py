@@ -160,7 +160,8 @@ def implausible(model, units: str = "si") -> list[str]:
             lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
-    return lines + _circulatory_mount_lines(model) + _slow_maxwell_lines(model) + _merge_lines(model) \
+    return lines + _far_point_lines(model) + _circulatory_mount_lines(model) + _slow_maxwell_lines(model) \
+        + _merge_lines(model) \
         + _material_lines(model) + _clearance_lines(model) + _spread_lines(model)
 
 
@@ -458,6 +459,54 @@ def _slow_maxwell_lines(model) -> list[str]:
             f"relaxes at 1/(2 pi tau) = {1 / (2 * np.pi * tau):.3g} Hz, {2 * np.pi * lowest * tau:.4g} times below the "
             f"machine's lowest mode on its mounts ({lowest:.3g} Hz; beyond {SLOW_MAXWELL:g} times it damps nothing "
             "there and acts as a plain spring): a relaxation time in ms typed for s? (model files are SI: 0.02 for 20 ms)"]
+
+
+#: the most radii of gyration (sqrt(largest inertia / mass)) a rigid body's bearing or mount point
+#: lies from its centre of mass without a warning: a machine's mounts and bearings sit within a
+#: few (a disk on a long massless rod, 6), while positions in mm typed for m put them 1000 times
+#: farther
+FAR_POINT = 100.0
+
+
+def _far_point_lines(model) -> list[str]:
+    """A line for each rigid body (the stator, a rigid rotor) whose farthest mount or bearing point
+    lies more than :data:`FAR_POINT` of its radii of gyration from its centre of mass: positions in
+    mm typed for m (the rocking and tilting modes then come out far too stiff, without another
+    word), or an inertia typed as a radius of gyration. Flexible rotors are left to their
+    shaft's length (:func:`~rotordyn_modal.model.flexible.size_lines`)."""
+    bodies = []
+    if model.stator is not None:
+        points = [(f"[suspensions.{visible(s.name)}] position", s.position) for s in model.suspensions]
+        points += [(f"[bearings.{visible(b.name)}] position", b.position) for b in model.bearings
+                   if getattr(b, "pedestal", None) is None]
+        inertia = np.asarray(model.stator.inertia, dtype=float)
+        largest = float(np.max(inertia)) if inertia.ndim == 1 else float(np.linalg.eigvalsh(inertia)[-1])
+        bodies.append(("the stator's", model.stator.mass, largest, model.stator.center_of_mass, points))
+    for rotor in model.rotors:
+        if rotor.flexible is None:
+            points = [(f"[bearings.{visible(b.name)}] position", b.position) for b in model.bearings
+                      if b.rotor == rotor.name]
+            bodies.append((f"rotor {visible(rotor.name)!r}'s", rotor.mass,
+                           max(rotor.polar_inertia, rotor.diametral_inertia), rotor.center_of_mass, points))
+    lines = []
+    for body, mass, largest, centre, points in bodies:
+        if not points or not largest > 0 or not mass > 0:
+            continue
+        radius = float(np.sqrt(largest / mass))
+        far = [(float(np.linalg.norm(np.asarray(p, dtype=float) - np.asarray(centre, dtype=float))), key, p)
+               for key, p in points]
+        distance, key, point = max(far, key=lambda f: f[0])
+        if not distance > FAR_POINT * radius:
+            continue
+        count = sum(1 for d, _, _ in far if d > FAR_POINT * radius)
+        others = f" (and {count - 1} other point{'s' if count > 2 else ''})" if count > 1 else ""
+        shown = "[" + ", ".join(f"{float(v):g}" for v in point) + "]"
+        lines.append(f"{model.source}: {key} = {shown}{others}: {distance:.3g} m from {body} centre of mass, "
+                     f"{distance / radius:.3g} times its largest radius of gyration sqrt(I/m) = {radius:.3g} m "
+                     f"(mounts and bearings sit within a few; beyond {FAR_POINT:g} its tilting modes come out far too "
+                     "stiff): positions in mm typed for m, or an inertia typed as a radius of gyration (I = m r^2)? "
+                     "(model files are SI)")
+    return lines
 
 
 def _circulatory_mount_lines(model) -> list[str]:

@@ -172,6 +172,7 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
         raise StudyError(source, "[[parameters]]", items, "at least one [[parameters]] table")
     parameters = tuple(_parameter(item, i, source, model) for i, item in enumerate(items))
     _unique_names(parameters, source)
+    _one_parameter_per_value(parameters, model, source)
     random = [p for p in parameters if not p.is_grid]
     samples = _samples(data, random, source)
     _check_variant_count(parameters, samples, design, source)
@@ -256,6 +257,45 @@ def _unique_names(parameters, source):
         if p.name in seen:
             raise StudyError(source, f"[[parameters]] {i + 1} name", p.name, "a name used once")
         seen.add(p.name)
+
+
+def _one_parameter_per_value(parameters, model, source):
+    """Refuse two parameters that address one value of the base model (the same key, a key and
+    an element of it, a name and an index of one table) where either sets it (``apply =
+    "value"``): the later one overwrote the other in every variant, whose column then showed
+    numbers no variant had. Two factors (``"scale"``) multiply, as given."""
+    if model is None:
+        return
+    from ..model.parameters import parse_key
+
+    data, seen = model.to_dict(), []
+    for i, parameter in enumerate(parameters):
+        for key in parameter.keys:
+            try:
+                container, name, indices = parse_key(key, data, model.source)
+                place = (id(container), name, _positive_indices(container[name], indices))
+            except (InputError, IndexError, TypeError, KeyError):
+                continue     # refused with its own line by _check_keys
+            for j, other, other_key, (c, n, idx) in seen:
+                shorter = min(len(idx), len(place[2]))
+                if j != i and (c, n) == place[:2] and idx[:shorter] == place[2][:shorter] \
+                        and "value" in (parameter.apply, other.apply):
+                    raise StudyError(source, f"[[parameters]] {i + 1} key", key,
+                                     f"a value no other parameter changes: [[parameters]] {j + 1} "
+                                     f"({other.name!r}, apply = {other.apply!r}) changes {other_key}, the same value, "
+                                     f"and this one (apply = {parameter.apply!r}) changed it after in every variant: "
+                                     "the first one's column would show numbers no variant had (give one parameter "
+                                     "per value; two factors, apply = 'scale', multiply)")
+            seen.append((i, parameter, key, place))
+
+
+def _positive_indices(value, indices) -> tuple:
+    """``indices`` into the nested list ``value`` with negative ones counted from the end."""
+    out = []
+    for index in indices:
+        out.append(index + len(value) if index < 0 else index)
+        value = value[out[-1]]
+    return tuple(out)
 
 
 def _parameter(item, i, source, model) -> Parameter:

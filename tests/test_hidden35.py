@@ -254,3 +254,19 @@ def test_a_study_of_two_parameters_of_one_value_exits_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "[[parameters]] 2 key" in err and "'front'" in err, err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("keys", [[f"{FRONT}[2]", f"{FRONT}[2]"], [FRONT, f"{FRONT}[2]"],
+                                  [f"{FRONT}[2]", "suspensions.0.stiffness[-1]"]])
+def test_one_factor_on_one_value_twice_is_refused(keys):
+    """``keys`` naming one value twice under ``scale``: every variant multiplied it twice (0.5
+    gave 0.25 of the base value)."""
+    with pytest.raises(StudyError, match=r"\[\[parameters\]\] 1 keys = .*: expected keys of different values: "
+                                         r".* address one value, which every variant multiplied twice"):
+        parse_study(_study({"name": "f", "keys": keys, "scale": [0.5, 1.0]}), "s.toml", rdm.load_model(RUBBER))
+
+
+def test_one_value_set_twice_by_one_parameter_or_two_values_scaled_are_read():
+    model = rdm.load_model(RUBBER)
+    parse_study(_study({"name": "f", "keys": [f"{FRONT}[2]", f"{FRONT}[2]"], "values": [1e5, 2e5]}), "s", model)
+    parse_study(_study({"name": "f", "keys": [f"{FRONT}[2]", f"{FRONT}[1]"], "scale": [0.5, 1.0]}), "s", model)

@@ -263,7 +263,8 @@ def _one_parameter_per_value(parameters, model, source):
     """Refuse two parameters that address one value of the base model (the same key, a key and
     an element of it, a name and an index of one table) where either sets it (``apply =
     "value"``): the later one overwrote the other in every variant, whose column then showed
-    numbers no variant had. Two factors (``"scale"``) multiply, as given."""
+    numbers no variant had. Two factors (``"scale"``) multiply, as given; one factor's ``keys``
+    addressing one value twice is refused (it was applied twice: the factor squared)."""
     if model is None:
         return
     from ..model.parameters import parse_key
@@ -278,8 +279,13 @@ def _one_parameter_per_value(parameters, model, source):
                 continue     # refused with its own line by _check_keys
             for j, other, other_key, (c, n, idx) in seen:
                 shorter = min(len(idx), len(place[2]))
-                if j != i and (c, n) == place[:2] and idx[:shorter] == place[2][:shorter] \
-                        and "value" in (parameter.apply, other.apply):
+                if (c, n) != place[:2] or idx[:shorter] != place[2][:shorter]:
+                    continue
+                if j == i and parameter.apply == "scale":
+                    raise StudyError(source, f"[[parameters]] {i + 1} keys", list(parameter.keys),
+                                     f"keys of different values: {other_key} and {key} address one value, which "
+                                     "every variant multiplied twice (the factor squared)")
+                if j != i and "value" in (parameter.apply, other.apply):
                     raise StudyError(source, f"[[parameters]] {i + 1} key", key,
                                      f"a value no other parameter changes: [[parameters]] {j + 1} "
                                      f"({other.name!r}, apply = {other.apply!r}) changes {other_key}, the same value, "

@@ -270,3 +270,37 @@ def test_one_value_set_twice_by_one_parameter_or_two_values_scaled_are_read():
     model = rdm.load_model(RUBBER)
     parse_study(_study({"name": "f", "keys": [f"{FRONT}[2]", f"{FRONT}[2]"], "values": [1e5, 2e5]}), "s", model)
     parse_study(_study({"name": "f", "keys": [f"{FRONT}[2]", f"{FRONT}[1]"], "scale": [0.5, 1.0]}), "s", model)
+
+
+# ----------------------------------------------------------------------- 2: a journal bearing's units
+JOURNAL = EXAMPLES / "journal_rotor.toml"
+
+
+@pytest.mark.parametrize("key, typed", [("clearance", 0.01), ("viscosity", 20.0)])
+def test_a_journal_clearance_or_viscosity_in_other_units_is_named(tmp_path, capsys, key, typed):
+    """clearance = 0.01 (10 mm on a 50 mm journal: 0.4 of its radius; mm typed for m) and
+    viscosity = 20 (20 mPa s typed for Pa s): the film's coefficients changed without a word at
+    check (an analysis said only 'eccentricity above 0.9' for the first, nothing for the second)."""
+    data = tomllib.loads(JOURNAL.read_text())
+    for bearing in data["bearings"]:
+        bearing[key] = typed
+    path = _write(tmp_path, tomli_w.dumps(data))
+    lines = _model_warnings(path)
+    assert len(lines) == len(data["bearings"]) == 2, lines
+    for bearing, line in zip(data["bearings"], lines):
+        assert line.startswith(f"{path}: [bearings.{bearing['name']}] {key} = {typed:g}: "), line
+        if key == "clearance":
+            assert f"{typed / (bearing['diameter'] / 2):.3g} of the journal's radius" in line and "mm typed for m" in line
+        else:
+            assert "over 5 Pa s" in line and "mPa s (cP) typed for Pa s" in line
+    assert main(["check", str(path)]) == 0
+    assert len(capsys.readouterr().err.splitlines()) == 2
+
+
+@pytest.mark.parametrize("key, value", [("clearance", 1.5e-4), ("viscosity", 0.6), ("viscosity", 0.001)])
+def test_plausible_journal_clearances_and_oils_are_quiet(tmp_path, key, value):
+    """c/R = 0.006 (a loose bearing), ISO VG 680 near 40 C, water."""
+    data = tomllib.loads(JOURNAL.read_text())
+    for bearing in data["bearings"]:
+        bearing[key] = value
+    assert _model_warnings(_write(tmp_path, tomli_w.dumps(data))) == []

@@ -41,6 +41,13 @@ _PEDESTAL_KEYS = ("pedestal_mass", "pedestal_stiffness", "pedestal_damping")
 LONGEST_JOURNAL = 2.0
 #: length / diameter above which a journal bearing draws a warning
 LONG_JOURNAL = 1.0
+#: radial clearance / journal radius above which a journal bearing draws a warning: plain
+#: bearings run at about 0.001 to 0.003 (the examples: 0.002), while a clearance in mm typed for
+#: m (0.05 for 50 micrometres) lands at 0.1 to 1
+WIDE_CLEARANCE = 0.02
+#: [Pa s] oil viscosity above which a journal bearing draws a warning: lubricating oils run 0.002
+#: to about 1 Pa s (ISO VG 680 cold), honey 10; mPa s (cP) typed for Pa s lands at 2 to 1000
+THICK_OIL = 5.0
 
 
 def bearings(tables: dict, rotors, spin_axis: np.ndarray, gravity: np.ndarray) -> list[Bearing]:
@@ -265,6 +272,8 @@ def _with_journal_load(bearing: Bearing, tables, every, rotors, e, gravity) -> B
     if not clearance < 0.5 * diameter:
         raise table.error("clearance", clearance, f"a radial clearance smaller than the journal's "
                           f"radius {0.5 * diameter:g} m")
+    viscosity = table.number("viscosity", required=True, positive=True)
+    _warn_journal_units(table, diameter, clearance, viscosity)
     length = table.number("length", required=True, positive=True)
     if length > LONGEST_JOURNAL * diameter:
         raise table.error("length", length, f"a bearing length at most {LONGEST_JOURNAL:g} x its diameter "
@@ -276,11 +285,27 @@ def _with_journal_load(bearing: Bearing, tables, every, rotors, e, gravity) -> B
     x = load_vector / np.linalg.norm(load_vector)
     journal = JournalData(
         diameter=diameter, length=length,
-        clearance=clearance, viscosity=table.number("viscosity", required=True, positive=True),
+        clearance=clearance, viscosity=viscosity,
         load=float(np.linalg.norm(load_vector)), axes=np.array([x, np.cross(e, x), e]),
     )
     coefficients = dataclasses.replace(bearing.coefficients, journal=journal)
     return dataclasses.replace(bearing, coefficients=coefficients)
+
+
+def _warn_journal_units(table: Table, diameter: float, clearance: float, viscosity: float) -> None:
+    """One warning line each for a journal's clearance over :data:`WIDE_CLEARANCE` of its radius
+    and a viscosity over :data:`THICK_OIL`: most likely mm typed for m, mPa s for Pa s. Either
+    moves the film's eccentricity, so its coefficients, without another word at ``check`` (an
+    analysis says only that the eccentricity is high)."""
+    ratio = clearance / (0.5 * diameter)
+    if ratio > WIDE_CLEARANCE:
+        warnings.warn(f"{table.source}: [{table.label}] clearance = {clearance:g}: {ratio:.3g} of the journal's radius "
+                      f"{0.5 * diameter:g} m, over {WIDE_CLEARANCE:g} (plain bearings run 0.001 to 0.003); a "
+                      "clearance in mm typed for m? (model files are SI)", ModelWarning, stacklevel=3)
+    if viscosity > THICK_OIL:
+        warnings.warn(f"{table.source}: [{table.label}] viscosity = {viscosity:g}: over {THICK_OIL:g} Pa s (lubricating "
+                      "oils run 0.002 to 1 Pa s, honey 10); a viscosity in mPa s (cP) typed for Pa s? (model files "
+                      "are SI)", ModelWarning, stacklevel=3)
 
 
 def _static_load(bearing, tables, every, rotor, e, gravity) -> np.ndarray:

@@ -138,7 +138,7 @@ def implausible(model, units: str = "si") -> list[str]:
     -------
     list of str, each naming the model's source
     """
-    lines, sag = [], ""
+    lines, sag, held = [], "", []
     if model.suspensions:
         try:   # a model whose numbers overflow here is refused by its analyses, not by a warning
             with np.errstate(all="ignore"):
@@ -160,8 +160,9 @@ def implausible(model, units: str = "si") -> list[str]:
             lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
-    return lines + _far_point_lines(model) + _circulatory_mount_lines(model) + _slow_maxwell_lines(model) \
-        + _merge_lines(model) \
+    # a mass far too large (g typed as kg) makes the radii of gyration small too: said once, by the sag
+    far = [] if sag or held else _far_point_lines(model)
+    return lines + far + _circulatory_mount_lines(model) + _slow_maxwell_lines(model) + _merge_lines(model) \
         + _material_lines(model) + _clearance_lines(model) + _spread_lines(model)
 
 

@@ -304,3 +304,40 @@ def test_plausible_journal_clearances_and_oils_are_quiet(tmp_path, key, value):
     for bearing in data["bearings"]:
         bearing[key] = value
     assert _model_warnings(_write(tmp_path, tomli_w.dumps(data))) == []
+
+
+# ----------------------------------------------------------------------- 2: a disk's mass in g
+def test_a_ross_disk_mass_in_g_is_named(tmp_path):
+    """rotor_example's disks of 32.6 kg typed in g (32589.7): 65 t on a 50 mm shaft, the modes
+    from 14.6 Hz down to 0.52 Hz, read at exit 0 without a word."""
+    data = tomllib.loads((ROSS / "rotor_example.toml").read_text())
+    disks = {k: t for k, t in data.items() if k.startswith("DiskElement_")}
+    for table in disks.values():
+        table["m"] = table["m"] * 1000.0
+    path = _write(tmp_path, tomli_w.dumps(data), "in_g.toml")
+    first = min(disks.values(), key=lambda t: t["n"])
+    shaft = [t for k, t in data.items() if k.startswith("ShaftElement_") and t["n"] in (first["n"] - 1, first["n"])]
+    radius = min(t["odl"] for t in shaft) / 2
+    gyration = math.sqrt(first["Ip"] / first["m"])
+    assert gyration < 0.25 * radius
+    lines = [line for line in _caught(lambda p: check_description(read_ross_rotor(p), p), path)
+             if "polar radius of gyration" in line]
+    assert len(lines) == 1, lines
+    assert f"[rotors.in_g.disks.{first['tag']}] mass = {first['m']:g} (and 1 other disk): " in lines[0], lines
+    assert f"= {gyration:.3g} m is {gyration / radius:.2g} of the shaft's radius {radius:.3g} m" in lines[0]
+
+
+@pytest.mark.parametrize("path", sorted(ROSS.glob("*.toml")), ids=lambda p: p.name)
+def test_the_ross_test_files_draw_no_disk_line(path):
+    try:
+        lines = _caught(lambda p: check_description(read_ross_rotor(p), p), path)
+    except ModelError:
+        return
+    assert not [line for line in lines if "polar radius of gyration" in line], lines
+
+
+def test_a_lumped_mass_as_a_disk_of_no_polar_inertia_is_quiet(tmp_path):
+    text = _flexible(0.5, 0.05, 2) + ('[[rotors.disks]]\nname = "lump"\naxial_position = 0.5\nmass = 50.0\n'
+                                      'polar_inertia = 0.0\ndiametral_inertia = 0.0\n')
+    assert tomllib.loads(text)["rotors"][0]["disks"][0]["name"] == "lump"
+    assert not [line for line in _model_warnings(_write(tmp_path, text)) if "radius of gyration" in line]

@@ -622,7 +622,7 @@ def size_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     """One warning line for ``shaft`` when a section (or layer) is thicker than
     :data:`PLAUSIBLE_SHAFT_DIAMETER`, most likely a diameter in mm typed for m: the thickest
     named, with the count of the others."""
-    lines = _length_lines(source, rotor, shaft)
+    lines = _length_lines(source, rotor, shaft) + _heavy_disk_lines(source, rotor, shaft)
     thick = [(max(tube.outer), where) for i, section in enumerate(shaft.sections)
              for where, tube in ((f"shaft.{i}", section), *((f"shaft.{i}.layers.{k}", layer)
                                                           for k, layer in enumerate(section.layers)))
@@ -633,6 +633,39 @@ def size_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     others = f" (and {len(thick) - 1} other tubes over it)" if len(thick) > 1 else ""
     return lines + [f"{source}: [rotors.{visible(rotor)}.{where}] outer_diameter = {diameter:g}{others}: a shaft "
                     f"over {PLAUSIBLE_SHAFT_DIAMETER:g} m thick; a diameter in mm typed for m? (model files are SI)"]
+
+
+#: a disk whose polar radius of gyration sqrt(Ip / m) is below this fraction of the shaft's outer
+#: radius where it sits draws a warning: a disk around the shaft has it at least that radius (a
+#: thin ring at the bore) and a solid piece of the shaft itself 0.71 of it, while a mass in g typed
+#: for kg puts it sqrt(1000) = 32 times lower
+LIGHTEST_DISK_RADIUS = 0.25
+
+
+def _heavy_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
+    """One warning line for ``shaft``'s disks given by mass and inertias whose polar radius of
+    gyration is below :data:`LIGHTEST_DISK_RADIUS` of the shaft's outer radius at the disk: most
+    likely a mass in g typed for kg (ROSS's ``m``, a model file's ``mass``). A disk of no polar
+    inertia (a lumped mass) is left out. The first named, with the count of the others."""
+    ends = shaft.ends
+    found = []
+    for disk in shaft.disks:
+        if not disk.polar_inertia > 0:
+            continue
+        touching = [max(s.outer) for s, a, b in zip(shaft.sections, ends[:-1], ends[1:])
+                    if a - STATION_TOLERANCE <= disk.z <= b + STATION_TOLERANCE]
+        radius = 0.5 * min(touching) if touching else 0.0
+        gyration = math.sqrt(disk.polar_inertia / disk.mass)
+        if gyration < LIGHTEST_DISK_RADIUS * radius:
+            found.append((disk, gyration, radius))
+    if not found:
+        return []
+    disk, gyration, radius = found[0]
+    others = f" (and {len(found) - 1} other disk{'s' if len(found) > 2 else ''})" if len(found) > 1 else ""
+    return [f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] mass = {disk.mass:g}{others}: its polar "
+            f"radius of gyration sqrt(polar_inertia / mass) = {gyration:.3g} m is {gyration / radius:.2g} of the shaft's "
+            f"radius {radius:.3g} m there (a disk around the shaft has at least that radius): a mass in g typed for "
+            "kg? (model files are SI)"]
 
 
 def _length_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:

@@ -475,38 +475,40 @@ def _far_point_lines(model) -> list[str]:
     mm typed for m (the rocking and tilting modes then come out far too stiff, without another
     word), or an inertia typed as a radius of gyration. Flexible rotors are left to their
     shaft's length (:func:`~rotordyn_modal.model.flexible.size_lines`)."""
+    import math
+
     bodies = []
     if model.stator is not None:
-        points = [(f"[suspensions.{visible(s.name)}] position", s.position) for s in model.suspensions]
-        points += [(f"[bearings.{visible(b.name)}] position", b.position) for b in model.bearings
-                   if getattr(b, "pedestal", None) is None]
+        points = [("suspensions", s.name, s.position) for s in model.suspensions]
+        points += [("bearings", b.name, b.position) for b in model.bearings if getattr(b, "pedestal", None) is None]
         inertia = np.asarray(model.stator.inertia, dtype=float)
         largest = float(np.max(inertia)) if inertia.ndim == 1 else float(np.linalg.eigvalsh(inertia)[-1])
         bodies.append(("the stator's", model.stator.mass, largest, model.stator.center_of_mass, points))
+    carried = {}
+    for b in model.bearings:
+        carried.setdefault(b.rotor, []).append(("bearings", b.name, b.position))
     for rotor in model.rotors:
         if rotor.flexible is None:
-            points = [(f"[bearings.{visible(b.name)}] position", b.position) for b in model.bearings
-                      if b.rotor == rotor.name]
-            bodies.append((f"rotor {visible(rotor.name)!r}'s", rotor.mass,
-                           max(rotor.polar_inertia, rotor.diametral_inertia), rotor.center_of_mass, points))
+            bodies.append((f"rotor {visible(rotor.name)!r}'s", rotor.mass, max(rotor.polar_inertia,
+                           rotor.diametral_inertia), rotor.center_of_mass, carried.get(rotor.name, ())))
     lines = []
     for body, mass, largest, centre, points in bodies:
         if not points or not largest > 0 or not mass > 0:
             continue
-        radius = float(np.sqrt(largest / mass))
-        far = [(float(np.linalg.norm(np.asarray(p, dtype=float) - np.asarray(centre, dtype=float))), key, p)
-               for key, p in points]
-        distance, key, point = max(far, key=lambda f: f[0])
+        radius = math.sqrt(largest / mass)
+        centre = [float(v) for v in centre]
+        far = [(math.dist([float(v) for v in p], centre), table, name, p) for table, name, p in points]
+        distance, table, name, point = max(far, key=lambda f: f[0])
         if not distance > FAR_POINT * radius:
             continue
-        count = sum(1 for d, _, _ in far if d > FAR_POINT * radius)
+        count = sum(1 for d, *_ in far if d > FAR_POINT * radius)
         others = f" (and {count - 1} other point{'s' if count > 2 else ''})" if count > 1 else ""
         shown = "[" + ", ".join(f"{float(v):g}" for v in point) + "]"
-        lines.append(f"{model.source}: {key} = {shown}{others}: {distance:.3g} m from {body} centre of mass, "
-                     f"{distance / radius:.3g} times its largest radius of gyration sqrt(I/m) = {radius:.3g} m "
-                     f"(mounts and bearings sit within a few; beyond {FAR_POINT:g} its tilting modes come out far too "
-                     "stiff): positions in mm typed for m, or an inertia typed as a radius of gyration (I = m r^2)? "
-                     "(model files are SI)")
+        lines.append(f"{model.source}: [{table}.{visible(name)}] position = {shown}{others}: {distance:.3g} m from "
+                     f"{body} centre of mass, {distance / radius:.3g} times its largest radius of gyration sqrt(I/m) = "
+                     f"{radius:.3g} m (mounts and bearings sit within a few; beyond {FAR_POINT:g} its tilting modes "
+                     "come out far too stiff): positions in mm typed for m, or an inertia typed as a radius of "
+                     "gyration (I = m r^2)? (model files are SI)")
     return lines
 
 

@@ -154,6 +154,12 @@ def implausible(model, units: str = "si") -> list[str]:
                 lines += held or _low_rotor_mode_lines(model)
         except (np.linalg.LinAlgError, ValueError):
             pass
+    elif model.bearings and not sag:
+        try:
+            with np.errstate(all="ignore"):
+                lines += _rigid_rotor_bound_lines(model)
+        except (np.linalg.LinAlgError, ValueError):
+            pass
     for b in model.bearings:
         journal = b.coefficients.journal
         if journal is not None and journal.length > LONG_JOURNAL * journal.diameter:
@@ -403,6 +409,104 @@ def _low_rotor_mode_lines(model) -> list[str]:
             f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; {when}, the stator held), below "
             f"{LOWEST_MOUNT_FREQUENCY:g} Hz, where bearings hold a rotor far stiffer: a stiffness in N/mm given as "
             "N/m, or a mass in g given as kg, puts modes 32 times too low"]
+
+
+def _rigid_rotor_bound_lines(model) -> list[str]:
+    """:func:`_low_rotor_mode_lines` for a model over :data:`SAG_CHECK_DOF` coordinates, where a
+    dense eigen-solution costs too much on every load: each rotor moved as a rigid body in its
+    bearings, the stator, the other rotors and the pedestals held (Rayleigh-Ritz on the rotor's
+    4 or 5 rigid motions, from the sparse stiffness). The lowest value is an upper bound of the
+    machine's lowest mode at rest with the stator held, so a bound below
+    :data:`LOWEST_MOUNT_FREQUENCY` means a mode below it; the shape strains no shaft. Journal
+    bearings are left out as there; speed tables count at their lowest speed. One line, for the
+    rotor of the lowest bound."""
+    from .assembly import _sparse_mass, _sparse_stiffness_damping
+
+    if any(b.coefficients.kind == "journal" for b in model.bearings):
+        return []
+    dofs = model.dofs
+    # the sparse K and M of sparse_constant_matrices, without its gyroscopic matrix (a fifth of its cost)
+    stiffness, mass = _rotor_blocks(_sparse_stiffness_damping(model)[0], dofs), _rotor_blocks(_sparse_mass(model), dofs)
+    rigid = [_rigid_motions(dofs.shafts[j] if dofs.shafts else None, rows.stop - rows.start)
+             for j, rows in enumerate(dofs.slices)]
+    reduced = [(r.T @ (0.5 * (k + k.T)) @ r, r.T @ m @ r) for r, k, m in zip(rigid, stiffness, mass)]
+    for bearing in model.bearings:
+        if bearing.coefficients.kind == "table":
+            j = dofs.rotors.index(bearing.rotor)
+            moves = dofs.local_relative_motion(bearing.rotor, bearing.position) @ rigid[j]
+            k6 = bearing.coefficients.stiffness[0]
+            reduced[j] = (reduced[j][0] + moves.T @ (0.5 * (k6 + k6.T)) @ moves, reduced[j][1])
+    lowest = _lowest_generalized(reduced)
+    if not lowest.size:
+        return []
+    j = int(np.argmin(lowest))
+    bound = float(np.sqrt(max(lowest[j], 0.0)) / (2 * np.pi))
+    if not bound < LOWEST_MOUNT_FREQUENCY:
+        return []
+    rotor = dofs.rotors[j]
+    held_by = [f"[bearings.{visible(b.name)}]" for b in model.bearings if b.rotor == rotor]
+    when = ("at their tables' lowest speeds" if any(b.coefficients.kind == "table" for b in model.bearings
+                                                     if b.rotor == rotor) else "at rest")
+    return [f"{model.source}: rotor {visible(rotor)!r} has a rigid-body mode at {bound:.3g} Hz or below in its bearings "
+            f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; {when}, moved as a rigid body, the rest "
+            f"held), below {LOWEST_MOUNT_FREQUENCY:g} Hz, where bearings hold a rotor far stiffer: a stiffness in N/mm "
+            "given as N/m, or a mass in g given as kg, puts modes 32 times too low"]
+
+
+def _rotor_blocks(matrix, dofs) -> list:
+    """The diagonal block of each rotor's coordinates of the sparse ``matrix``, dense, in
+    ``dofs.rotors``' order: one pass over its entries (a slice per rotor cost 0.3 ms each)."""
+    coo = matrix.tocoo()
+    owner = np.full(dofs.n, -1)
+    for j, rows in enumerate(dofs.slices):
+        owner[rows] = j
+    keep = (owner[coo.row] == owner[coo.col]) & (owner[coo.row] >= 0)
+    rows, cols, values, which = coo.row[keep], coo.col[keep], coo.data[keep], owner[coo.row[keep]]
+    blocks = [np.zeros((s.stop - s.start, s.stop - s.start)) for s in dofs.slices]
+    starts = np.array([s.start for s in dofs.slices])
+    order = np.argsort(which, kind="stable")
+    bounds = np.searchsorted(which[order], np.arange(len(blocks) + 1))
+    for j, block in enumerate(blocks):
+        part = order[bounds[j]:bounds[j + 1]]
+        np.add.at(block, (rows[part] - starts[j], cols[part] - starts[j]), values[part])
+    return blocks
+
+
+def _lowest_generalized(pairs) -> np.ndarray:
+    """The lowest eigenvalue of each symmetric pencil ``(K, M)`` of ``pairs`` (M positive
+    definite), those of one size solved together (Cholesky of M, then eigvalsh), shape (len,)."""
+    lowest = np.empty(len(pairs))
+    sizes = {}
+    for j, (k, _) in enumerate(pairs):
+        sizes.setdefault(k.shape[0], []).append(j)
+    for size, index in sizes.items():
+        k = np.array([pairs[j][0] for j in index])
+        factor = np.linalg.cholesky(np.array([pairs[j][1] for j in index]))
+        left = np.linalg.solve(factor, k)
+        lowest[index] = np.linalg.eigvalsh(np.linalg.solve(factor, left.transpose(0, 2, 1)))[:, 0]
+    return lowest
+
+
+def _rigid_motions(shaft, width: int) -> np.ndarray:
+    """A rotor's coordinates (``width``) per rigid motion of it: the identity for a rigid rotor;
+    for a flexible one (:func:`rotordyn_modal.model.dofs._node_motions`: ``u_a, u_b, theta_a,
+    theta_b`` per node, then the axial one) the translations along ``a, b`` and the tilts about
+    them at the shaft's start, node ``z``'s ``u = U + Theta x (z e)`` (``a x e = -b``,
+    ``b x e = a``), and the axial translation, shape (width, 4 or 5)."""
+    if shaft is None:
+        return np.eye(width)
+    z = shaft.mesh.z
+    columns = np.zeros((width, 5 if width % 4 else 4))
+    nodes = 4 * np.arange(len(z))
+    columns[nodes, 0] = 1.0                  # U_a
+    columns[nodes + 1, 1] = 1.0              # U_b
+    columns[nodes + 2, 2] = 1.0              # Theta_a: u_b = -z Theta_a
+    columns[nodes + 1, 2] = -z
+    columns[nodes + 3, 3] = 1.0              # Theta_b: u_a = z Theta_b
+    columns[nodes, 3] = z
+    if width % 4:
+        columns[-1, 4] = 1.0
+    return columns
 
 
 def _lowest_table_stiffness(model) -> np.ndarray:

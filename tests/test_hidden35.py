@@ -341,3 +341,51 @@ def test_a_lumped_mass_as_a_disk_of_no_polar_inertia_is_quiet(tmp_path):
                                       'polar_inertia = 0.0\ndiametral_inertia = 0.0\n')
     assert tomllib.loads(text)["rotors"][0]["disks"][0]["name"] == "lump"
     assert not [line for line in _model_warnings(_write(tmp_path, text)) if "radius of gyration" in line]
+
+
+# ----------------------------------------------------------------------- 1(b): over 200 coordinates
+def _fine_compressor(tmp_path, stiffness: str) -> Path:
+    text = (EXAMPLES / "compressor_rotor.toml").read_text()
+    assert "element_length = 0.2 " in text and "stiffness = 5.0e7" in text
+    text = text.replace("element_length = 0.2 ", "element_length = 0.02 ").replace("stiffness = 5.0e7", stiffness)
+    return _write(tmp_path, text)
+
+
+def test_a_rotor_on_centinewton_bearings_over_200_coordinates_is_named(tmp_path):
+    """compressor_rotor.toml meshed at 2 cm (253 coordinates) on bearings of 5e-2 N/m: the
+    check stopped at 200 coordinates. The line gives an upper bound of the lowest mode, which
+    scipy's dense solution of the model's own K and M (the stator held) lies under."""
+    path = _fine_compressor(tmp_path, "stiffness = 5.0e-2")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        model = rdm.load_model(path)
+    assert model.dofs.n > 200
+    matrices = model.matrices()
+    first = model.dofs.n_frame
+    lowest = scipy.linalg.eigh(0.5 * (matrices.K + matrices.K.T)[first:, first:], matrices.M[first:, first:],
+                               eigvals_only=True)[0]
+    lowest = math.sqrt(max(lowest, 0.0)) / (2 * math.pi)
+    lines = [line for line in _model_warnings(path) if "in its bearings" in line]
+    assert len(lines) == 1, lines
+    bound = float(lines[0].split("rigid-body mode at ")[1].split(" Hz or below")[0])
+    assert lowest <= bound * (1 + 1e-3) and bound < 0.5 and bound < 1.2 * lowest, (lowest, bound)
+    assert "rotor 'compressor'" in lines[0] and "[bearings.left], [bearings.right]" in lines[0]
+
+
+def test_a_rotor_on_plausible_bearings_over_200_coordinates_is_quiet(tmp_path):
+    path = _fine_compressor(tmp_path, "stiffness = 5.0e7")
+    assert rdm.load_model(path).dofs.n > 200
+    assert not [line for line in _model_warnings(path) if "in its bearings" in line]
+
+
+def test_the_rigid_motions_of_a_flexible_rotor_strain_no_shaft(tmp_path):
+    """The Ritz basis is rigid: the shaft's stiffness times it is zero to round-off."""
+    from rotordyn_modal.assembly import shaft_stiffness
+    from rotordyn_modal.linear_system import _rigid_motions
+
+    model = rdm.load_model(_fine_compressor(tmp_path, "stiffness = 5.0e7"))
+    rows = model.dofs.slices[0]
+    motions = _rigid_motions(model.dofs.shafts[0], rows.stop - rows.start)
+    shaft = shaft_stiffness(model)[rows, rows]
+    assert np.linalg.matrix_rank(motions) == motions.shape[1] >= 4
+    assert np.abs(shaft @ motions).max() <= 1e-12 * np.abs(shaft).max()

@@ -389,3 +389,19 @@ def test_the_rigid_motions_of_a_flexible_rotor_strain_no_shaft(tmp_path):
     shaft = shaft_stiffness(model)[rows, rows]
     assert np.linalg.matrix_rank(motions) == motions.shape[1] >= 4
     assert np.abs(shaft @ motions).max() <= 1e-12 * np.abs(shaft).max()
+
+
+def test_ross_disk_inertias_in_kg_mm2_are_named(tmp_path):
+    """rotor_example's disk inertias typed in kg mm^2 (x 1e6): a tilt mode at 0.2 Hz, said only
+    as a bearing stiffness or mass in other units."""
+    data = tomllib.loads((ROSS / "rotor_example.toml").read_text())
+    disks = [t for k, t in data.items() if k.startswith("DiskElement_")]
+    for table in disks:
+        table["Ip"], table["Id"] = table["Ip"] * 1e6, table["Id"] * 1e6
+    path = _write(tmp_path, tomli_w.dumps(data), "kg_mm2.toml")
+    first = min(disks, key=lambda t: t["n"])
+    lines = [line for line in _caught(lambda p: check_description(read_ross_rotor(p), p), path)
+             if "kg mm^2" in line]
+    assert len(lines) == 1, lines
+    assert f"[rotors.kg_mm2.disks.{first['tag']}] polar_inertia = {first['Ip']:g} (and 1 other disk)" in lines[0]
+    assert f"= {math.sqrt(first['Ip'] / first['m']):.3g} m, over 5 m" in lines[0]

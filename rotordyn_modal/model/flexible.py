@@ -646,7 +646,9 @@ def _heavy_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     """One warning line for ``shaft``'s disks given by mass and inertias whose polar radius of
     gyration is below :data:`LIGHTEST_DISK_RADIUS` of the shaft's outer radius at the disk: most
     likely a mass in g typed for kg (ROSS's ``m``, a model file's ``mass``). A disk of no polar
-    inertia (a lumped mass) is left out. The first named, with the count of the others."""
+    inertia (a lumped mass) is left out. The first named, with the count of the others. One more
+    for disks whose polar radius of gyration exceeds half :data:`PLAUSIBLE_SHAFT_DIAMETER`:
+    inertias in kg mm^2 typed for kg m^2 (a million times too large)."""
     ends = shaft.ends
     found = []
     for disk in shaft.disks:
@@ -658,14 +660,23 @@ def _heavy_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
         gyration = math.sqrt(disk.polar_inertia / disk.mass)
         if gyration < LIGHTEST_DISK_RADIUS * radius:
             found.append((disk, gyration, radius))
-    if not found:
-        return []
-    disk, gyration, radius = found[0]
-    others = f" (and {len(found) - 1} other disk{'s' if len(found) > 2 else ''})" if len(found) > 1 else ""
-    return [f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] mass = {disk.mass:g}{others}: its polar "
-            f"radius of gyration sqrt(polar_inertia / mass) = {gyration:.3g} m is {gyration / radius:.2g} of the shaft's "
-            f"radius {radius:.3g} m there (a disk around the shaft has at least that radius): a mass in g typed for "
-            "kg? (model files are SI)"]
+    lines = []
+    if found:
+        disk, gyration, radius = found[0]
+        others = f" (and {len(found) - 1} other disk{'s' if len(found) > 2 else ''})" if len(found) > 1 else ""
+        lines.append(f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] mass = {disk.mass:g}{others}: its "
+                     f"polar radius of gyration sqrt(polar_inertia / mass) = {gyration:.3g} m is {gyration / radius:.2g} of "
+                     f"the shaft's radius {radius:.3g} m there (a disk around the shaft has at least that radius): a mass "
+                     "in g typed for kg? (model files are SI)")
+    wide = [d for d in shaft.disks if d.polar_inertia > d.mass * (PLAUSIBLE_SHAFT_DIAMETER / 2) ** 2]
+    if wide:
+        disk = wide[0]
+        others = f" (and {len(wide) - 1} other disk{'s' if len(wide) > 2 else ''})" if len(wide) > 1 else ""
+        lines.append(f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] polar_inertia = "
+                     f"{disk.polar_inertia:g}{others}: a polar radius of gyration sqrt(polar_inertia / mass) = "
+                     f"{math.sqrt(disk.polar_inertia / disk.mass):.3g} m, over {PLAUSIBLE_SHAFT_DIAMETER / 2:g} m (no "
+                     "machine's disk is that wide): inertias in kg mm^2 typed for kg m^2? (model files are SI)")
+    return lines
 
 
 def _length_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:

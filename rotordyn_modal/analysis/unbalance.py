@@ -740,14 +740,15 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
     if made already (whether the peaks are looked for is read from it: where they are not, the
     form is not made again)."""
     from ..assembly import is_large
-    from .unbalance_peaks import _AF_SHARE, cut_maxima, not_looked_for, unresolved_criticals
+    from .unbalance_peaks import _AF_SHARE, cut_maxima, not_looked_for, undamped_crossings, unresolved_criticals
 
     why = not_looked_for(model, speeds, form) if wanted and found is None else ""
     if wanted and found is None and not why:
         found = unresolved_criticals(model, speeds, ratios)
     curve = _own_source_curve(model, outputs, quantity) if wanted and not is_large(model) else None
     exact = _exact_peak_fields(curve, speeds, swept, float(model.dofs.n) ** 3,
-                               None if found is None else [critical for critical, _ in found])
+                               None if found is None else [critical for critical, _ in found],
+                               undamped_crossings(model, ratios))
     if not wanted or found is None:
         return dict(dict.fromkeys(_RESONANCE_FIELDS), cut_peak_note=why, **exact)
     n_outputs = swept.shape[0]
@@ -773,15 +774,16 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
             "cut_peak_speeds": peak_at, "cut_peak_response": peak_value, "cut_peak_widths": peak_width, **exact}
 
 
-def _exact_peak_fields(curve, speeds, swept, solve_work, criticals=None) -> dict:
+def _exact_peak_fields(curve, speeds, swept, solve_work, criticals=None, crossing=None) -> dict:
     """``peak_swept_speeds``, ``peak_speeds``, ``peak_response`` and ``peak_half_power`` of
     :class:`UnbalanceResult`: the swept peaks of ``swept`` (n_outputs, n_src, N) read on the exact
     response ``curve`` (:func:`.unbalance_peaks.exact_peaks`, ``solve_work`` one solve's work,
-    ``criticals`` each source's damped critical speeds that no swept speed resolves); None each
-    without a curve or where the search would cost too much."""
+    ``criticals`` each source's damped critical speeds that no swept speed resolves, ``crossing``
+    where an undamped peak's response is unbounded); None each without a curve or where the
+    search would cost too much."""
     from .unbalance_peaks import exact_peaks
 
-    found = None if curve is None else exact_peaks(curve, speeds, np.abs(swept), solve_work, criticals)
+    found = None if curve is None else exact_peaks(curve, speeds, np.abs(swept), solve_work, criticals, crossing)
     return dict.fromkeys(_EXACT_PEAK_FIELDS) if found is None else dict(zip(_EXACT_PEAK_FIELDS, found))
 
 

@@ -110,6 +110,38 @@ def test_the_backward_crossing_is_not_excited(tmp_path):
     assert np.all(np.isposinf(table["amplitude"]))
 
 
+def test_anisotropic_supports_excite_both_crossings_each_at_its_speed(tmp_path):
+    """The block's radial stiffness made 2000 N/m along y and 2600 N/m along z: the unbalance
+    excites both 1X crossings below 300 rpm (104.72 and 109.62 rpm). Each sensor reports both,
+    unbounded, at the crossings of the hand model to 1e-9, also where the sweep (every 5 rpm)
+    puts both between two of its speeds (main: one swept peak per sensor, at a swept speed).
+    The hand model in (y, z, theta_y, theta_z) at the centre of mass: ``K`` of the springs at l,
+    ``M = diag(m, m, Id, Id)``, ``G`` the spin's (``Ip`` between the tilts); at 1X (w = Omega)
+    ``det(K - u (M - i G)) = 0``, ``u = Omega^2``, a generalized eigenproblem."""
+    import scipy.linalg
+
+    ky, kz = 2000.0, 2600.0
+    stiffness = np.array([[ky, 0, 0, -ky * L], [0, kz, kz * L, 0], [0, kz * L, kz * L * L + KT, 0],
+                          [-ky * L, 0, 0, ky * L * L + KT]])
+    gyroscopic = np.zeros((4, 4))
+    gyroscopic[2, 3], gyroscopic[3, 2] = IP, -IP
+    u = scipy.linalg.eigvals(stiffness, np.diag([M, M, ID, ID]) - 1j * gyroscopic)
+    crossings = np.sort(np.sqrt(u[u.real > 0].real))
+    crossings = crossings[crossings < 300.0 * RPM]
+    assert len(crossings) == 2
+
+    path = tmp_path / "anisotropic.toml"
+    path.write_text((EXAMPLES / "spring_block_rotor.toml").read_text().replace(
+        "\nstiffness = 2000.0 ", f"\nstiffness = [{ky}, {kz}] ") + '\n[[unbalances]]\nrotor = "disk"\namount = 1e-4\n')
+    model = rdm.load_model(path)
+    for points in (61, 601):
+        table = rdm.unbalance_response(model, np.linspace(0.0, 300.0, points) * RPM).peaks()
+        for name in ("disk-centre-y", "disk-centre-z"):
+            mine = table[(table["output"] == name) & np.isposinf(table["amplitude"])]
+            np.testing.assert_allclose(mine["speed_rpm"], crossings / RPM, rtol=1e-9)
+            assert np.all(np.isposinf(mine["amplification_factor"]))
+
+
 def test_the_cli_says_the_response_is_unbounded(tmp_path, capsys):
     """``unbalance``'s peaks table prints the critical speed (6 digits) and amplitude inf, and one
     line says what inf means."""

@@ -170,39 +170,89 @@ def _source_criticals(form, x, roots, ratio):
     return critical[unresolved][order], band[unresolved][order]
 
 
-def undamped_crossings(model, ratios):
-    """``crossing(j, start, a, b)``: where source ``j``'s excitation line meets a root of the
-    state matrix nearest ``start`` (:func:`crossing_speed`), for :func:`exact_peaks`' peaks
-    too narrow for its search (an undamped mode). The model's state form is made at the first
-    call (most sweeps have no such peak).
+def undamped_crossings(model, ratios, speeds=None):
+    """Where each source's excitation line meets an undamped root of the state matrix, for
+    :func:`exact_peaks`' peaks too narrow for its search (an undamped mode): an
+    :class:`_Crossings`, callable as ``crossing(j, start, a, b)`` (the crossing nearest ``start``
+    within ``[a, b]``, :func:`crossing_speed`) and with ``every(j)`` (every crossing of an undamped
+    root within the sweep ``speeds``). The model's state form is made at the first call (most
+    sweeps have no such peak).
 
     Parameters
     ----------
     model : Model
     ratios : sequence of float, length n_src
         Each source's speed ratio ``r_j``.
+    speeds : ndarray, shape (N,) [rad/s], optional
+        The sweep (without it, ``every`` finds none).
 
     Returns
     -------
-    callable
-        ``crossing(j, start, a, b)``, speeds [rad/s] -> ``(speed [rad/s], root [1/s])`` or None.
+    _Crossings
     """
-    forms, found = {}, {}
+    return _Crossings(model, ratios, speeds)
 
-    def crossing(j, start, a, b):
-        r = abs(float(ratios[j]))
-        for speed, root in found.get(r, ()):          # another output's peak of the same crossing
+
+class _Crossings:
+    """See :func:`undamped_crossings`."""
+
+    def __init__(self, model, ratios, speeds=None):
+        self.model, self.ratios, self.speeds = model, ratios, speeds
+        self.forms, self.found, self.everywhere = {}, {}, {}
+
+    def form(self, r):
+        """The state form of a source of speed ratio ``|r|`` (hysteretic mounts: :class:`_LossyForm`)."""
+        if r not in self.forms:
+            form = speed_linear_form(self.model)
+            lossy = r and any(s.loss_factor for s in self.model.suspensions)
+            self.forms[r] = _LossyForm(form, self.model, r) if lossy else form
+        return self.forms[r]
+
+    def __call__(self, j, start, a, b):
+        """``(speed [rad/s], root [1/s])`` of :func:`crossing_speed` nearest ``start`` in ``[a, b]``, or None."""
+        r = abs(float(self.ratios[j]))
+        for speed, root in self.found.get(r, ()):          # another output's peak of the same crossing
             if a < speed < b and abs(speed - start) < _SAME_MAXIMUM * (b - a):
                 return speed, root
-        if r not in forms:
-            form = speed_linear_form(model)
-            forms[r] = _LossyForm(form, model, r) if r and any(s.loss_factor for s in model.suspensions) else form
-        result = crossing_speed(forms[r], r, start, a, b)
+        result = crossing_speed(self.form(r), r, start, a, b)
         if result is not None:
-            found.setdefault(r, []).append(result)
+            self.found.setdefault(r, []).append(result)
         return result
 
-    return crossing
+    def every(self, j):
+        """The speeds [rad/s], increasing, where source ``j``'s line meets an undamped root within
+        the sweep: between two swept speeds where the distance ``Im lam - |r Omega|`` of the k-th
+        lowest undamped frequency changes sign (their count the same), refined by
+        :func:`crossing_speed` from the chord's zero; None where not looked for (no sweep, or its
+        eigen-solutions cost more than :data:`_WORK`: :func:`not_looked_for`)."""
+        r = abs(float(self.ratios[j]))
+        if r not in self.everywhere:
+            self.everywhere[r] = self._every(r)
+        return self.everywhere[r]
+
+    def _every(self, r):
+        if self.speeds is None or not r or not_looked_for(self.model, self.speeds):
+            return None
+        x = np.unique(np.asarray(self.speeds, dtype=float))
+        form = self.form(r)
+        matrices = form.at(x)
+        finite = np.all(np.isfinite(matrices), axis=(1, 2))
+        values = np.full(matrices.shape[:2], np.nan + 0j)
+        values[finite] = np.linalg.eigvals(matrices[finite])
+        keep = (values.imag > 0) & (np.abs(values.real) <= _LEAST_DAMPING * np.abs(values))
+        frequency = np.sort(np.where(keep, values.imag, np.inf), axis=1)       # (S, 2n), inf after the last
+        g = frequency - r * np.abs(x)[:, None]
+        count = keep.sum(axis=1)
+        same = (count[:-1] == count[1:]) & (np.sign(x[:-1]) * np.sign(x[1:]) >= 0)
+        k, m = np.nonzero(same[:, None] & np.isfinite(g[:-1]) & (np.sign(g[:-1]) * np.sign(g[1:]) < 0))
+        out = []
+        for k_, m_ in zip(k, m):
+            lo, hi, g_lo, g_hi = x[k_], x[k_ + 1], g[k_, m_], g[k_ + 1, m_]
+            start = lo + (hi - lo) * g_lo / (g_lo - g_hi)                        # the chord's zero
+            found = crossing_speed(form, r, min(max(start, lo), hi), lo, hi)
+            if found is not None and abs(found[1].real) <= _LEAST_DAMPING * abs(found[1]):
+                out.append(found[0])
+        return np.unique(out)
 
 
 #: the first half-width of :func:`crossing_speed`'s bracket, as a share of its interval; widened
@@ -417,6 +467,8 @@ def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=Non
     narrow = np.abs(half_power[:, 1] - half_power[:, 0]) < _UNBOUNDED_SHARE * c["span"]
     if narrow.any():
         c, half_power = _unbounded(c, half_power, narrow, crossing)
+        if np.isinf(c["value"]).any() and hasattr(crossing, "every"):
+            c, half_power = _unbounded_elsewhere(curve, c, half_power, crossing, speeds, (n_out, n_src))
     return _packed(c, half_power, n_out, n_src)
 
 
@@ -437,6 +489,55 @@ def _unbounded(c, half_power, narrow, crossing=None):
         at[m] = at[m] if found is None else found[0]
         value[m], half_power[m] = complex(np.inf, 0.0), at[m]
     return dict(c, at=at, value=value), half_power
+
+
+#: a crossing of an undamped root excites a curve (a pole of its response) where the response at
+#: :data:`_POLE_NEAR` of the speed from it is more than :data:`_POLE_GROWTH` times the response at
+#: :data:`_POLE_FAR`, on both sides (a pole: about their ratio, 1000; a smooth curve: about 1)
+_POLE_NEAR, _POLE_FAR, _POLE_GROWTH = 1e-9, 1e-6, 30.0
+
+
+def _unbounded_elsewhere(curve, c, half_power, crossing, speeds, shape):
+    """The peaks ``c`` with their ``half_power`` (C, 2) of :func:`_unbounded` (some unbounded: the
+    model has an undamped mode) and every other pole of each curve within the sweep: each
+    crossing of an undamped root with its source's line (``crossing.every(j)``) that excites the
+    curve (:data:`_POLE_GROWTH`) and has no unbounded peak of it yet is added, unbounded (its
+    response ``inf``, ``N1 = N2`` its speed, its swept speed the nearest), so that two poles
+    between two swept speeds, which the swept line shows as one peak, are both reported (a rotor
+    on anisotropic supports: its forward and backward 1X crossings 5 rpm apart, swept every 5 rpm).
+    ``shape``: ``(n_out, n_src)``. The peaks come each curve's by direction of spin and speed."""
+    x = np.unique(np.asarray(speeds, dtype=float))
+    added = {name: [] for name in ("o", "j", "swept", "at")}
+    for j in range(shape[1]):
+        every = crossing.every(j)
+        if every is None or not len(every):
+            continue
+        o, at = np.repeat(np.arange(shape[0]), len(every)), np.tile(every, shape[0])
+        for m in np.flatnonzero(_excited(curve, o, np.full(o.size, j), at)):
+            mine = (c["o"] == o[m]) & (c["j"] == j) & np.isinf(c["value"])
+            if np.any(np.abs(c["at"][mine] - at[m]) <= 1e-9 * abs(at[m])):
+                continue                                   # placed already from its swept peak
+            for name, item in zip(added, (o[m], j, x[np.argmin(np.abs(x - at[m]))], at[m])):
+                added[name].append(item)
+    if not added["o"]:
+        return c, half_power
+    joined = {name: np.concatenate([c[name], np.array(added[name], dtype=c[name].dtype)]) for name in added}
+    joined["value"] = np.concatenate([c["value"], np.full(len(added["o"]), complex(np.inf, 0.0))])
+    half_power = np.concatenate([half_power, np.repeat(np.array(added["at"])[:, None], 2, axis=1)])
+    order = np.lexsort((np.abs(joined["at"]), joined["at"] >= 0, joined["j"], joined["o"]))
+    return {name: value[order] for name, value in joined.items()}, half_power[order]
+
+
+def _excited(curve, o, j, at):
+    """Whether each crossing ``at`` (K,) [rad/s] is a pole of curve ``(o, j)`` (K,):
+    :data:`_POLE_GROWTH` on both sides."""
+    growth = []
+    for side in (-1.0, 1.0):
+        near = np.abs(curve(at * (1 + side * _POLE_NEAR), o, j))
+        far = np.abs(curve(at * (1 + side * _POLE_FAR), o, j))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            growth.append(near / far)
+    return np.minimum(*growth) > _POLE_GROWTH
 
 
 def _swept_peaks(speeds, amplitude):

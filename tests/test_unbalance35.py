@@ -156,8 +156,9 @@ def test_the_cli_says_the_response_is_unbounded(tmp_path, capsys):
     assert sum(line.startswith("amplitude inf, AF inf: the response is unbounded") for line in err.splitlines()) == 1
 
 
-def _report(units):
-    """``(html, figures)`` of spring_block_rotor's api684 report, Campbell and unbalance sections."""
+def _report(units, path=EXAMPLES / "spring_block_rotor.toml"):
+    """``(html, figures)`` of the api684 report of the model file ``path`` (spring_block_rotor's),
+    Campbell and unbalance sections."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     inputs = collect_module.ReportInputs("api684", 3000.0 * RPM)
@@ -175,7 +176,7 @@ def _report(units):
     with pytest.MonkeyPatch.context() as mp:
         mp.setitem(collect_module.STANDARDS, "api684", sections)
         mp.setattr(render, "figure_png", kept)
-        data = collect_module.collect(rdm.load_model(EXAMPLES / "spring_block_rotor.toml"), inputs)
+        data = collect_module.collect(rdm.load_model(path), inputs)
         html = render.render_html(dataclasses.replace(data, sections=sections), units=units)
     return html, figures
 
@@ -195,6 +196,23 @@ def test_the_report_shows_the_critical_speed_and_an_unbounded_response(units):
     assert labels[0].get_text().startswith(f"AF inf at {FORWARD[0] / RPM:.0f} rpm (1X api-static:disk)\n"
                                            "response unbounded")
     assert labels[0].xy[0] == pytest.approx(FORWARD[0] / RPM, rel=1e-12)
+
+
+def test_an_unbounded_peak_fails_the_probe_limit_and_says_so(tmp_path):
+    """The spring block's two sensors made proximity probes (measure = "relative"): the forward
+    critical speed (106.648 rpm) lies below the MCS (3000 rpm) and the response there is
+    unbounded, so each probe fails the API 617 limit there, its value 'unbounded' (main: twice
+    the swept top read at 119.2 rpm)."""
+    path = tmp_path / "probes.toml"
+    path.write_text((EXAMPLES / "spring_block_rotor.toml").read_text().replace(
+        "direction = [0.0, 0.0, 1.0]", 'direction = [0.0, 0.0, 1.0]\nmeasure = "relative"').replace(
+        "direction = [0.0, 1.0, 0.0]", 'direction = [0.0, 1.0, 0.0]\nmeasure = "relative"'))
+    html, _ = _report("si", path)
+    section = html[html.index("<h3>API 617 probe vibration limit</h3>"):]
+    section = section[:section.index("<h3", 10)]
+    speed = f"{FORWARD[0] / RPM:.6g}"
+    assert section.count(f">{speed}<") == 2 and section.count(">unbounded<") == 2 and section.count(">fail<") == 2
+    assert "where the response is unbounded (an undamped mode&#x27;s critical speed)" in html
 
 
 def _state_space_response(path, speed, stations, rotor):

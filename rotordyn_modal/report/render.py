@@ -611,10 +611,12 @@ def _scaling_notes(scaling):
 
 def _check_table(table, scale, unit, digits=4) -> str:
     """The API probe limits or the ISO zones, one row per output (and case); the zone column only
-    where a row has a zone (the ISO checks: an API probe's is empty)."""
+    where a row has a zone (the ISO checks: an API probe's is empty); a value of inf (the AF
+    table's unbounded peak: an undamped mode) reads 'unbounded'."""
     has_case = "case" in table
     zoned = bool((table["zone"].fillna("").astype(str) != "").any())
-    rows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6), _g(r.value * scale, digits),
+    rows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6),
+             "unbounded" if np.isposinf(r.value) else _g(r.value * scale, digits),
              _g(r.limit * scale, digits), *([r.zone] if zoned else []), _verdict_cell(r.verdict)] for r in table.itertuples()]
     return _table(rows, [("output", True), *([("case", True)] if has_case else []), ("speed [rpm]", False),
                          (f"value [{unit}]", False), (f"limit [{unit}]", False), *([("zone", True)] if zoned else []),

@@ -404,16 +404,21 @@ class UnbalanceResult:
             those, ``cut_peak_note``). A peak of a curve at round-off (amplitude at most :data:`ROUND_OFF_AMPLITUDE` times
             the largest of the response, every output and source: an API couple case seen at
             the centre of mass of a symmetric rotor, 3.5e-21 m beside 1e-5 m) is no resonance
-            and is left out.
+            and is left out. A peak of an undamped mode is reported where its response is
+            unbounded, its amplitude and AF ``inf`` (at the exact speed where the source's line
+            meets the undamped root: :func:`.unbalance_peaks.exact_peaks`), judged at round-off
+            by its curve's largest swept amplitude.
         """
         import pandas as pd
 
         check_operating_speed(self.speeds, operating_speed)
 
-        rows = []
+        rows, sizes = [], []
         for i, out in enumerate(self.outputs):
             for j, src in enumerate(self.sources):
                 for peak in self._resolved_peaks(out, src):
+                    # an unbounded peak (amplitude inf) is judged at round-off by its curve's swept top
+                    sizes.append(peak[1] if np.isfinite(peak[1]) else float(np.max(self.amplitude[i, j])))
                     speed, amp, af = peak
                     margin = np.nan if operating_speed is None else \
                         100 * abs(operating_speed - speed) / abs(operating_speed)
@@ -427,7 +432,7 @@ class UnbalanceResult:
                                             "amplification_factor", "separation_margin_pct",
                                             "required_margin_pct"])
         largest = float(np.max(self.amplitude, initial=0.0))
-        table = table[table["amplitude"] > ROUND_OFF_AMPLITUDE * largest].reset_index(drop=True)
+        table = table[np.array(sizes, dtype=float).reshape(-1) > ROUND_OFF_AMPLITUDE * largest].reset_index(drop=True)
         return self._with_cases(_with_convention(table, amplitude or self.amplitude_kind, after=None))
 
     def _resolved_peaks(self, output: str, source: str):
@@ -740,14 +745,15 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
     if made already (whether the peaks are looked for is read from it: where they are not, the
     form is not made again)."""
     from ..assembly import is_large
-    from .unbalance_peaks import _AF_SHARE, cut_maxima, not_looked_for, unresolved_criticals
+    from .unbalance_peaks import _AF_SHARE, cut_maxima, not_looked_for, undamped_crossings, unresolved_criticals
 
     why = not_looked_for(model, speeds, form) if wanted and found is None else ""
     if wanted and found is None and not why:
         found = unresolved_criticals(model, speeds, ratios)
     curve = _own_source_curve(model, outputs, quantity) if wanted and not is_large(model) else None
     exact = _exact_peak_fields(curve, speeds, swept, float(model.dofs.n) ** 3,
-                               None if found is None else [critical for critical, _ in found])
+                               None if found is None else [critical for critical, _ in found],
+                               undamped_crossings(model, ratios, speeds))
     if not wanted or found is None:
         return dict(dict.fromkeys(_RESONANCE_FIELDS), cut_peak_note=why, **exact)
     n_outputs = swept.shape[0]
@@ -773,15 +779,16 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
             "cut_peak_speeds": peak_at, "cut_peak_response": peak_value, "cut_peak_widths": peak_width, **exact}
 
 
-def _exact_peak_fields(curve, speeds, swept, solve_work, criticals=None) -> dict:
+def _exact_peak_fields(curve, speeds, swept, solve_work, criticals=None, crossing=None) -> dict:
     """``peak_swept_speeds``, ``peak_speeds``, ``peak_response`` and ``peak_half_power`` of
     :class:`UnbalanceResult`: the swept peaks of ``swept`` (n_outputs, n_src, N) read on the exact
     response ``curve`` (:func:`.unbalance_peaks.exact_peaks`, ``solve_work`` one solve's work,
-    ``criticals`` each source's damped critical speeds that no swept speed resolves); None each
-    without a curve or where the search would cost too much."""
+    ``criticals`` each source's damped critical speeds that no swept speed resolves, ``crossing``
+    where an undamped peak's response is unbounded); None each without a curve or where the
+    search would cost too much."""
     from .unbalance_peaks import exact_peaks
 
-    found = None if curve is None else exact_peaks(curve, speeds, np.abs(swept), solve_work, criticals)
+    found = None if curve is None else exact_peaks(curve, speeds, np.abs(swept), solve_work, criticals, crossing)
     return dict.fromkeys(_EXACT_PEAK_FIELDS) if found is None else dict(zip(_EXACT_PEAK_FIELDS, found))
 
 

@@ -31,7 +31,7 @@ from ..unbalance_standards import (api_analysis_unbalance, api_probe_limit, iso_
                                    largest_margins_text, required_separation_margin)
 
 __all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "sensor_groups", "separation_margins",
-           "operating_range", "case_models", "AF_UNKNOWN"]
+           "operating_range", "case_models", "AF_UNKNOWN", "AF_UNBOUNDED"]
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -353,6 +353,10 @@ def separation_margins(result, operating, outputs=None, amplitude: str = "peak")
 
 
 #: why a peak's separation margin is 'not evaluated' (:func:`separation_margins`), one line
+#: the line under a peaks table with an unbounded peak (amplitude inf: an undamped mode)
+AF_UNBOUNDED = ("amplitude inf, AF inf: the response is unbounded at that speed, the critical speed where the "
+                "source's 1X line meets an undamped mode (a root on the imaginary axis), found exactly: no damping "
+                "bounds it (the swept curve's top is that of the swept speeds beside it)")
 AF_UNKNOWN = ("AF unknown: the amplitude does not fall to peak/sqrt(2) on both sides of the peak within the "
               f"sweep; its margin passes only where it is at least what any AF requires "
               f"({largest_margins_text(' the range')}), else not evaluated")

@@ -22,7 +22,8 @@ from ..assembly import is_large
 from ..linear_system import speed_linear_form
 from ._eigensolve import eigenvalues_of
 
-__all__ = ["cut_maxima", "exact_peaks", "not_looked_for", "per_source", "unresolved_criticals"]
+__all__ = ["crossing_speed", "cut_maxima", "exact_peaks", "not_looked_for", "per_source", "undamped_crossings",
+           "unresolved_criticals"]
 
 #: the roots are looked for when the sweep's eigen-solutions cost at most this many
 #: ``N n_states^3`` (about a second of one core)
@@ -169,6 +170,151 @@ def _source_criticals(form, x, roots, ratio):
     return critical[unresolved][order], band[unresolved][order]
 
 
+def undamped_crossings(model, ratios, speeds=None):
+    """Where each source's excitation line meets an undamped root of the state matrix, for
+    :func:`exact_peaks`' peaks too narrow for its search (an undamped mode): an
+    :class:`_Crossings`, callable as ``crossing(j, start, a, b)`` (the crossing nearest ``start``
+    within ``[a, b]``, :func:`crossing_speed`) and with ``every(j)`` (every crossing of an undamped
+    root within the sweep ``speeds``). The model's state form is made at the first call (most
+    sweeps have no such peak).
+
+    Parameters
+    ----------
+    model : Model
+    ratios : sequence of float, length n_src
+        Each source's speed ratio ``r_j``.
+    speeds : ndarray, shape (N,) [rad/s], optional
+        The sweep (without it, ``every`` finds none).
+
+    Returns
+    -------
+    _Crossings
+    """
+    return _Crossings(model, ratios, speeds)
+
+
+class _Crossings:
+    """See :func:`undamped_crossings`."""
+
+    def __init__(self, model, ratios, speeds=None):
+        self.model, self.ratios, self.speeds = model, ratios, speeds
+        self.forms, self.found, self.everywhere = {}, {}, {}
+
+    def form(self, r):
+        """The state form of a source of speed ratio ``|r|`` (hysteretic mounts: :class:`_LossyForm`)."""
+        if r not in self.forms:
+            form = speed_linear_form(self.model)
+            lossy = r and any(s.loss_factor for s in self.model.suspensions)
+            self.forms[r] = _LossyForm(form, self.model, r) if lossy else form
+        return self.forms[r]
+
+    def __call__(self, j, start, a, b):
+        """``(speed [rad/s], root [1/s])`` of :func:`crossing_speed` nearest ``start`` in ``[a, b]``, or None."""
+        r = abs(float(self.ratios[j]))
+        for speed, root in self.found.get(r, ()):          # another output's peak of the same crossing
+            if a < speed < b and abs(speed - start) < _SAME_MAXIMUM * (b - a):
+                return speed, root
+        result = crossing_speed(self.form(r), r, start, a, b)
+        if result is not None:
+            self.found.setdefault(r, []).append(result)
+        return result
+
+    def every(self, j):
+        """The speeds [rad/s], increasing, where source ``j``'s line meets an undamped root within
+        the sweep: between two swept speeds where the distance ``Im lam - |r Omega|`` of the k-th
+        lowest undamped frequency changes sign (their count the same), refined by
+        :func:`crossing_speed` from the chord's zero; None where not looked for (no sweep, or its
+        eigen-solutions cost more than :data:`_WORK`: :func:`not_looked_for`)."""
+        r = abs(float(self.ratios[j]))
+        if r not in self.everywhere:
+            self.everywhere[r] = self._every(r)
+        return self.everywhere[r]
+
+    def _every(self, r):
+        if self.speeds is None or not r or not_looked_for(self.model, self.speeds):
+            return None
+        x = np.unique(np.asarray(self.speeds, dtype=float))
+        form = self.form(r)
+        matrices = form.at(x)
+        finite = np.all(np.isfinite(matrices), axis=(1, 2))
+        values = np.full(matrices.shape[:2], np.nan + 0j)
+        values[finite] = np.linalg.eigvals(matrices[finite])
+        keep = (values.imag > 0) & (np.abs(values.real) <= _LEAST_DAMPING * np.abs(values))
+        frequency = np.sort(np.where(keep, values.imag, np.inf), axis=1)       # (S, 2n), inf after the last
+        g = frequency - r * np.abs(x)[:, None]
+        count = keep.sum(axis=1)
+        same = (count[:-1] == count[1:]) & (np.sign(x[:-1]) * np.sign(x[1:]) >= 0)
+        k, m = np.nonzero(same[:, None] & np.isfinite(g[:-1]) & (np.sign(g[:-1]) * np.sign(g[1:]) < 0))
+        out = []
+        for k_, m_ in zip(k, m):
+            lo, hi, g_lo, g_hi = x[k_], x[k_ + 1], g[k_, m_], g[k_ + 1, m_]
+            start = lo + (hi - lo) * g_lo / (g_lo - g_hi)                        # the chord's zero
+            found = crossing_speed(form, r, min(max(start, lo), hi), lo, hi)
+            if found is not None and abs(found[1].real) <= _LEAST_DAMPING * abs(found[1]):
+                out.append(found[0])
+        return np.unique(out)
+
+
+#: the first half-width of :func:`crossing_speed`'s bracket, as a share of its interval; widened
+#: by :data:`_WIDENING` a step until the sign changes
+_FIRST_REACH, _WIDENING = 1e-4, 8.0
+
+
+def crossing_speed(form, ratio, start, a, b):
+    """The speed nearest ``start`` within ``[a, b]`` where a root ``lam`` of the state matrix
+    equals ``i |ratio Omega|``: the root followed from the one nearest ``i |ratio start|``, its
+    ``g(Omega) = Im lam(Omega) - |ratio Omega|`` bracketed around ``start`` (a bracket widened
+    from :data:`_FIRST_REACH` of the interval) and solved by Brent's method to round-off. For an
+    undamped mode (``lam`` on the imaginary axis) it is the critical speed where ``det(K - w^2 M
+    + i w C(Omega)) = 0`` with ``w = ratio Omega``: the unbalance response is unbounded there.
+
+    Parameters
+    ----------
+    form : SpeedLinearForm or _LossyForm
+        ``form.at(speeds)`` the state matrices, shape (S, 2n, 2n).
+    ratio : float
+        The source's speed ratio ``|r|`` (> 0).
+    start, a, b : float
+        [rad/s] the first guess and the interval (signed speeds, ``a < start < b``).
+
+    Returns
+    -------
+    tuple or None
+        ``(speed [rad/s], root [1/s])``, the root at that speed; None where ``g`` does not
+        change sign within ``[a, b]`` or ``ratio`` is 0.
+    """
+    from scipy.optimize import brentq
+
+    if not ratio:
+        return None
+
+    def root_near(speed, near):
+        values = np.linalg.eigvals(form.at(np.array([speed]))[0])
+        return values[np.argmin(np.abs(values - near))]
+
+    first = root_near(start, 1j * ratio * abs(start))         # the root followed: nearest this one
+
+    def gap(speed):
+        return root_near(speed, first).imag - ratio * abs(speed)
+
+    g_start, reach = gap(start), _FIRST_REACH * (b - a)
+    if g_start == 0:
+        return float(start), complex(first)
+    while True:
+        lo, hi = max(start - reach, a), min(start + reach, b)
+        g_lo, g_hi = gap(lo), gap(hi)
+        if not (np.isfinite(g_lo) and np.isfinite(g_hi)):
+            return None
+        if g_lo * g_start <= 0 or g_hi * g_start <= 0:
+            break
+        if lo == a and hi == b:
+            return None
+        reach *= _WIDENING
+    lo, hi = (lo, start) if g_lo * g_start <= 0 else (start, hi)
+    speed = brentq(gap, lo, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps)
+    return float(speed), complex(root_near(speed, first))
+
+
 #: each damped critical speed's neighbourhood is sampled at this share of its mode's half-power
 #: band in speed (there a single mode's response is at least about 0.9 of its peak) ...
 _GRID_STEP = 0.25
@@ -250,7 +396,7 @@ def cut_maxima(curve, speeds, amplitude, found, half_power=True, share=_SEARCH_S
     return _per_curve(c, widths, n_out, n_src)
 
 
-def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=None):
+def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=None, crossing=None):
     """The AF table's peaks on the exact response: each swept peak of each curve (:func:`spin_curves`', as
     ``unbalance.amplification_factors``') refined to
     the maximum of ``|response|`` between its two swept neighbours (golden-section search), and
@@ -292,7 +438,13 @@ def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=Non
         side where the swept amplitude does not fall below the level within the sweep. A peak
         whose band is narrower than :data:`_UNBOUNDED_SHARE` of its search interval (an undamped
         mode: the response is unbounded there; AF above ``500 N_c`` over a swept step) is
-        reported at its swept speed and response, with ``N1 = N2`` that speed (AF infinite).
+        reported where the response is unbounded: at the exact speed where its source's line
+        meets the undamped root (``crossing``), its response ``inf``, with ``N1 = N2`` that speed
+        (AF infinite) (:func:`_unbounded`).
+    crossing : callable, optional
+        ``crossing(j, start, a, b)`` of :func:`undamped_crossings`: where source ``j``'s line
+        meets a root near ``start`` within ``[a, b]`` [rad/s] (without it, an unbounded peak
+        is taken at the search's maximum).
     """
     c, sides = _swept_peaks(np.asarray(speeds, dtype=float), np.asarray(amplitude))
     if c["o"].size * _AF_CALLS * solve_work > _WORK:
@@ -312,12 +464,80 @@ def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=Non
                                          _AF_SHARE)
     n = c["o"].size
     half_power = np.stack([points[:n], points[n:]], axis=1)                 # (C, 2): N1, N2
-    # narrower than the search resolves (no damping): unbounded, read at the swept peak
-    unbounded = np.abs(half_power[:, 1] - half_power[:, 0]) < _UNBOUNDED_SHARE * c["span"]
-    if unbounded.any():
-        c["at"], half_power[unbounded] = np.where(unbounded, c["swept"], c["at"]), c["swept"][unbounded, None]
-        c["value"] = np.where(unbounded, curve(c["swept"], c["o"], c["j"]), c["value"])
+    narrow = np.abs(half_power[:, 1] - half_power[:, 0]) < _UNBOUNDED_SHARE * c["span"]
+    if narrow.any():
+        c, half_power = _unbounded(c, half_power, narrow, crossing)
+        if np.isinf(c["value"]).any() and hasattr(crossing, "every"):
+            c, half_power = _unbounded_elsewhere(curve, c, half_power, crossing, speeds, (n_out, n_src))
     return _packed(c, half_power, n_out, n_src)
+
+
+def _unbounded(c, half_power, narrow, crossing=None):
+    """The peaks ``c`` (:func:`exact_peaks`', with their ``half_power`` (C, 2) [rad/s]) whose band
+    is ``narrow`` (C,) bool (narrower than the search resolves) placed where the response is
+    unbounded: the exact speed where the source's excitation line meets an undamped root
+    (``crossing(j, start, a, b)`` of :func:`undamped_crossings`, from the search's maximum),
+    their response ``inf`` and ``N1 = N2`` that speed (AF infinite). A root found damped
+    (``|Re lam| > _LEAST_DAMPING |lam|``) bounds the response: that peak keeps the search's
+    maximum and half-power points. Without ``crossing``, or where no root meets the line within
+    the peak's interval, the search's maximum is taken for the unbounded speed."""
+    at, value, half_power = c["at"].copy(), c["value"].copy(), half_power.copy()
+    for m in np.flatnonzero(narrow):
+        found = None if crossing is None else crossing(int(c["j"][m]), at[m], c["a"][m], c["b"][m])
+        if found is not None and abs(found[1].real) > _LEAST_DAMPING * abs(found[1]):
+            continue                                  # a damped root: the response is bounded
+        at[m] = at[m] if found is None else found[0]
+        value[m], half_power[m] = complex(np.inf, 0.0), at[m]
+    return dict(c, at=at, value=value), half_power
+
+
+#: a crossing of an undamped root excites a curve (a pole of its response) where the response at
+#: :data:`_POLE_NEAR` of the speed from it is more than :data:`_POLE_GROWTH` times the response at
+#: :data:`_POLE_FAR`, on both sides (a pole: about their ratio, 1000; a smooth curve: about 1)
+_POLE_NEAR, _POLE_FAR, _POLE_GROWTH = 1e-9, 1e-6, 30.0
+
+
+def _unbounded_elsewhere(curve, c, half_power, crossing, speeds, shape):
+    """The peaks ``c`` with their ``half_power`` (C, 2) of :func:`_unbounded` (some unbounded: the
+    model has an undamped mode) and every other pole of each curve within the sweep: each
+    crossing of an undamped root with its source's line (``crossing.every(j)``) that excites the
+    curve (:data:`_POLE_GROWTH`) and has no unbounded peak of it yet is added, unbounded (its
+    response ``inf``, ``N1 = N2`` its speed, its swept speed the nearest), so that two poles
+    between two swept speeds, which the swept line shows as one peak, are both reported (a rotor
+    on anisotropic supports: its forward and backward 1X crossings 5 rpm apart, swept every 5 rpm).
+    ``shape``: ``(n_out, n_src)``. The peaks come each curve's by direction of spin and speed."""
+    x = np.unique(np.asarray(speeds, dtype=float))
+    added = {name: [] for name in ("o", "j", "swept", "at")}
+    for j in range(shape[1]):
+        every = crossing.every(j)
+        if every is None or not len(every):
+            continue
+        o, at = np.repeat(np.arange(shape[0]), len(every)), np.tile(every, shape[0])
+        for m in np.flatnonzero(_excited(curve, o, np.full(o.size, j), at)):
+            mine = (c["o"] == o[m]) & (c["j"] == j) & np.isinf(c["value"])
+            if np.any(np.abs(c["at"][mine] - at[m]) <= 1e-9 * abs(at[m])):
+                continue                                   # placed already from its swept peak
+            for name, item in zip(added, (o[m], j, x[np.argmin(np.abs(x - at[m]))], at[m])):
+                added[name].append(item)
+    if not added["o"]:
+        return c, half_power
+    joined = {name: np.concatenate([c[name], np.array(added[name], dtype=c[name].dtype)]) for name in added}
+    joined["value"] = np.concatenate([c["value"], np.full(len(added["o"]), complex(np.inf, 0.0))])
+    half_power = np.concatenate([half_power, np.repeat(np.array(added["at"])[:, None], 2, axis=1)])
+    order = np.lexsort((np.abs(joined["at"]), joined["at"] >= 0, joined["j"], joined["o"]))
+    return {name: value[order] for name, value in joined.items()}, half_power[order]
+
+
+def _excited(curve, o, j, at):
+    """Whether each crossing ``at`` (K,) [rad/s] is a pole of curve ``(o, j)`` (K,):
+    :data:`_POLE_GROWTH` on both sides."""
+    growth = []
+    for side in (-1.0, 1.0):
+        near = np.abs(curve(at * (1 + side * _POLE_NEAR), o, j))
+        far = np.abs(curve(at * (1 + side * _POLE_FAR), o, j))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            growth.append(near / far)
+    return np.minimum(*growth) > _POLE_GROWTH
 
 
 def _swept_peaks(speeds, amplitude):

@@ -154,7 +154,7 @@ def add_arguments(parser):
 
 def run(args) -> int:
     from ..analysis.unbalance import api_unbalance_response, unbalance_response
-    from ..analysis.unbalance_checks import AF_UNKNOWN, separation_margins
+    from ..analysis.unbalance_checks import AF_UNBOUNDED, AF_UNKNOWN, separation_margins
     check_extra_output(args, args.orbits, "--orbits")
     check_ending(args.orbits, (".csv",), "--orbits", stdout=False)
     check_ending(args.checks, (".csv",), "--checks", stdout=False)
@@ -183,6 +183,8 @@ def run(args) -> int:
                     empty=f"no resonance peak {speeds_text(args)}")
         if "verdict" in peaks and np.isnan(peaks["amplification_factor"].to_numpy(dtype=float)).any():
             print(AF_UNKNOWN, file=sys.stderr)            # what a verdict of an unknown AF rests on
+        if np.isposinf(peaks["amplitude"].to_numpy(dtype=float)).any():
+            print(AF_UNBOUNDED, file=sys.stderr)          # what an amplitude of inf means
     checks = _write_checks(result, model, mcs, min_speed, args,
                            None if args.operating is None else operating)
     _print_clearances(result, model, mcs, min_speed, args, min_operating)

@@ -629,8 +629,24 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
     mag.set_title(name, fontsize="medium")
     if peaks is None:
         return mag, [], top
-    chosen = _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30, speed_unit, factor)
+    chosen = _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30, speed_unit, factor,
+                           top)
+    _mark_unbounded(mag, chosen, top)
     return mag, chosen, top
+
+
+def _mark_unbounded(ax, chosen, top):
+    """A dotted line up to ``top`` (the largest value drawn) at the speed of each unbounded peak of
+    ``chosen`` (:func:`_marked_peaks`'; its label, which says so, stands at its top): the swept
+    line's peak stands beside it, at a swept speed."""
+    low = ax.get_ylim()[0]
+    for x, y, text, colour, _ in chosen:
+        if _UNBOUNDED_LINE in text.split("\n") and np.isfinite(top) and top > low:
+            ax.plot([x, x], [low, y], color=colour, ls=":", lw=1.2, label="_unbounded")
+
+
+#: the second line of an unbounded peak's label (an undamped mode's: amplitude inf)
+_UNBOUNDED_LINE = "response unbounded"
 
 
 def _fit_top(ax, top, share):
@@ -942,9 +958,11 @@ def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak", 
     ax.set_ylabel(f"Force amplitude, {words} [{unit}]")
 
 
-def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=1.0):
+def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=1.0, top=np.nan):
     """Peaks that matter of the panel's sensors, largest (relative to the panel's) first:
-    ``[(x, amplitude, text, colour), ...]``."""
+    ``[(x, amplitude, text, colour, source), ...]``; an unbounded peak's (amplitude ``inf``: an
+    undamped mode, at its critical speed) stands at ``top``, the largest value drawn, its text's
+    second line :data:`_UNBOUNDED_LINE`."""
     index = {result.outputs[i]: i for i in rows}
     sources = {s: j for j, s in enumerate(result.sources)}
     chosen = []
@@ -956,12 +974,15 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=
         speed = f"{rpm_text(row.speed_rpm)} rpm" if unit == "rpm" else \
             f"{row.speed_rpm * rpm_to_unit:.4g} {'Hz' if unit == 'hz' else unit}"
         # an undamped mode's peak is unbounded: 'AF inf', as the summary and the AF table write it,
-        # near the swept speed where the analysis found it (between that speed's neighbours)
-        at = "near" if np.isinf(row.amplification_factor) else "at"
-        text = f"AF {row.amplification_factor:.1f} {at} {speed} (1X {source})"
+        # at the critical speed where the analysis found it, its amplitude inf
+        unbounded = bool(np.isinf(row.amplitude))
+        text = f"AF {row.amplification_factor:.1f} at {speed} (1X {source})"
+        if unbounded:
+            text += "\n" + _UNBOUNDED_LINE
         if np.isfinite(row.separation_margin_pct):
             text += f"\nSM {row.separation_margin_pct:.0f} % (API {row.required_margin_pct:.0f} %)"
-        chosen.append((row.speed_rpm * rpm_to_unit, row.amplitude * factor, text, colours[i, j], source))
+        chosen.append((row.speed_rpm * rpm_to_unit, top if unbounded else row.amplitude * factor, text, colours[i, j],
+                       source))
     kept, width = [], np.ptp(result.speeds) * rpm_to_unit * 30 / np.pi
     for peak in sorted(chosen, key=lambda c: -c[1]):    # one label per source's peak seen by several sensors
         if not any(peak[4] == k[4] and abs(peak[0] - k[0]) <= _SAME_PEAK * width for k in kept):

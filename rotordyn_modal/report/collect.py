@@ -1454,7 +1454,9 @@ def _probe_limits(data):
     worst = table.iloc[int(np.argmax(table["value"] / table["limit"]))]
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of("API 617 probe vibration limit", verdict, "unbalance",
-                                      f"governing: {worst.output} at {rpm_text(worst.speed_rpm)} rpm" + _case(worst),
+                                      f"governing: {worst.output} at {rpm_text(worst.speed_rpm)} rpm" + _case(worst)
+                                      + (", where the response is unbounded (an undamped mode's critical speed)"
+                                         if np.isposinf(worst.value) else ""),
                                       quantities=[("value", "{0:.3g} {unit} {amplitude}", "vibration", (worst.value,)),
                                                   ("limit", "<= {0:.3g} {unit} {amplitude}", "vibration", (worst.limit,))]))
 

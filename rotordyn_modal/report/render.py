@@ -405,14 +405,16 @@ def margins_table(margins, units: str = "si", amplitude: str = "pk-pk") -> str:
     has_case = "case" in margins
     to_vibration, vibration = shown_scale("vibration", units)
     to_vibration *= amplitude_factor(amplitude)                     # the table holds 0-peak amplitudes
-    rows = [[r.output, r.case if has_case else r.source, _g(r.speed_rpm, 6), _g(r.amplitude * to_vibration),
+    rows = [[r.output, r.case if has_case else r.source, _g(r.speed_rpm, 6),
+             "unbounded\u2020" if np.isposinf(r.amplitude) else _g(r.amplitude * to_vibration),
              af_text(r.amplification_factor), _g(r.separation_margin_pct, 3),
              _g(r.required_margin_pct, 3) or "unknown*", _verdict_cell(r.verdict)] for r in margins.itertuples()]
     unknown = bool(np.any(np.isnan(np.asarray(margins["amplification_factor"], dtype=float))))
+    unbounded = bool(np.any(np.isposinf(np.asarray(margins["amplitude"], dtype=float))))
     return _table(rows, [("output", True), ("case" if has_case else "source (1X of)", True),
                          ("peak speed [rpm]", False), (f"amplitude, {amplitude_label(amplitude)} [{vibration}]", False),
                          ("AF [-]", False), ("separation margin [%]", False), ("required margin [%]", False),
-                         ("verdict", True)]) + (_AF_UNKNOWN if unknown else "")
+                         ("verdict", True)]) + (_AF_UNKNOWN if unknown else "") + (_UNBOUNDED if unbounded else "")
 
 
 def af_text(af: float, digits: int = 3) -> str:
@@ -430,6 +432,15 @@ _AF_UNKNOWN = ('<p class="note">* AF unknown: the amplitude does not fall to pea
                "peak). Such a peak passes where its margin is at least the largest any AF requires "
                f"({largest_margins_text(' the range')}: its required margin shown); otherwise neither the required "
                "margin nor the verdict can be set (docs/standards.md).</p>")
+
+
+#: under the AF table where a peak is unbounded (an undamped mode's critical speed)
+_UNBOUNDED = ('<p class="note">\u2020 Unbounded: no damping acts on the mode, so the response grows without '
+              "bound at its critical speed, where the unbalance's 1X line meets the undamped root (a root on the "
+              "imaginary axis); the peak speed is that critical speed, found exactly (as the critical-speed table "
+              "gives it), "
+              "not a swept speed, and its AF is infinite. On isotropic supports an unbalance excites forward whirl "
+              "only: a backward-whirl critical speed of the table then has no peak (docs/report.md).</p>")
 
 
 #: a damping ratio or log decrement below this is the round-off of an undamped mode
@@ -600,10 +611,12 @@ def _scaling_notes(scaling):
 
 def _check_table(table, scale, unit, digits=4) -> str:
     """The API probe limits or the ISO zones, one row per output (and case); the zone column only
-    where a row has a zone (the ISO checks: an API probe's is empty)."""
+    where a row has a zone (the ISO checks: an API probe's is empty); a value of inf (the AF
+    table's unbounded peak: an undamped mode) reads 'unbounded'."""
     has_case = "case" in table
     zoned = bool((table["zone"].fillna("").astype(str) != "").any())
-    rows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6), _g(r.value * scale, digits),
+    rows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6),
+             "unbounded" if np.isposinf(r.value) else _g(r.value * scale, digits),
              _g(r.limit * scale, digits), *([r.zone] if zoned else []), _verdict_cell(r.verdict)] for r in table.itertuples()]
     return _table(rows, [("output", True), *([("case", True)] if has_case else []), ("speed [rpm]", False),
                          (f"value [{unit}]", False), (f"limit [{unit}]", False), *([("zone", True)] if zoned else []),

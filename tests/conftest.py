@@ -34,6 +34,29 @@ def examples_dir() -> Path:
     return EXAMPLES
 
 
+@pytest.fixture(scope="session")
+def chain_campbell():
+    """``chain_campbell(rotors, speeds_rpm)``: the Campbell sweep (critical speeds included) of
+    ``rotors`` geared rotors on bearings (``test_large_machine_cli.chained_gear_toml(rotors,
+    rotors)``) at ``speeds_rpm`` [rpm], swept once per worker and shared by the files that
+    measure its figures (test_campbell_chain32, test_campbell_labels32): the sweeps are most of
+    their time."""
+    import tomllib
+
+    import rotordyn_modal as rdm
+    from test_large_machine_cli import chained_gear_toml
+
+    cache = {}
+
+    def get(rotors, speeds_rpm):
+        key = (rotors, tuple(speeds_rpm))
+        if key not in cache:
+            model = rdm.Model.from_dict(tomllib.loads(chained_gear_toml(rotors, rotors)), source="chain.toml")
+            cache[key] = rdm.campbell(model, rdm.rpm(speeds_rpm))
+        return cache[key]
+    return get
+
+
 @pytest.fixture
 def no_solutions(monkeypatch):
     """Any eigen-solution of a sweep fails the test (a refusal must come before the work), with

@@ -20,20 +20,16 @@ result's frequencies) meets the right edge, nearer to it than to any other curve
 from __future__ import annotations
 
 import re
-import tomllib
 
 import matplotlib
 import numpy as np
 import pytest
-
-import rotordyn_modal as rdm
 
 matplotlib.use("Agg")
 
 from label_geometry import counted_modes, named_modes, outline, outlines_overlap  # noqa: E402
 from test_campbell_figure import _curve_ends  # noqa: E402
 from test_campbell_labels32 import _texts  # noqa: E402
-from test_large_machine_cli import chained_gear_toml  # noqa: E402
 
 SPEEDS_RPM = np.linspace(0.0, 4500.0, 22)
 #: the axes' share of the figure's width at least
@@ -44,16 +40,11 @@ MOST_NUMBERS = 5
 TITLE_GAP_POINTS = 4.0
 
 
-@pytest.fixture(scope="module")
-def chains():
-    cache = {}
-
-    def get(rotors):
-        if rotors not in cache:
-            model = rdm.Model.from_dict(tomllib.loads(chained_gear_toml(rotors, rotors)), source="chain.toml")
-            cache[rotors] = rdm.campbell(model, rdm.rpm(SPEEDS_RPM))
-        return cache[rotors]
-    return get
+@pytest.fixture
+def chains(chain_campbell):
+    """``chains(rotors)``: the chain's sweep at :data:`SPEEDS_RPM`, swept once per worker
+    (``conftest.chain_campbell``, which test_campbell_chain32 and test_campbell_labels32 share)."""
+    return lambda rotors: chain_campbell(rotors, SPEEDS_RPM)
 
 
 def _saved(result, dpi, report=False, **options):

@@ -17,33 +17,24 @@ nearer to it than to any other curve's end.
 from __future__ import annotations
 
 import io
-import tomllib
 
 import matplotlib
 import numpy as np
 import pytest
 
-import rotordyn_modal as rdm
-
 matplotlib.use("Agg")
 
 from label_geometry import named_modes, outline, outlines_overlap  # noqa: E402
 from test_campbell_figure import _curve_ends, _pointed_height  # noqa: E402
-from test_large_machine_cli import chained_gear_toml  # noqa: E402
 
 SPEEDS_RPM = np.linspace(0.0, 4500.0, 22)
 
 
-@pytest.fixture(scope="module")
-def chains():
-    cache = {}
-
-    def get(rotors):
-        if rotors not in cache:
-            model = rdm.Model.from_dict(tomllib.loads(chained_gear_toml(rotors, rotors)), source="chain.toml")
-            cache[rotors] = rdm.campbell(model, rdm.rpm(SPEEDS_RPM))
-        return cache[rotors]
-    return get
+@pytest.fixture
+def chains(chain_campbell):
+    """``chains(rotors)``: the chain's sweep at :data:`SPEEDS_RPM`, swept once per worker
+    (``conftest.chain_campbell``, which test_campbell_chain32 and test_campbell_labels32 share)."""
+    return lambda rotors: chain_campbell(rotors, SPEEDS_RPM)
 
 
 def _saved(result, dpi, report=False, then=None):

@@ -4,7 +4,6 @@ has the bodies' inertia, orbits turn the way the mode whirls; figures, animation
 from __future__ import annotations
 
 import re
-import subprocess
 import sys
 from pathlib import Path
 
@@ -233,19 +232,26 @@ def test_mp4_without_any_ffmpeg_is_refused(gear, tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "rotordyn_modal.cli.main", *map(str, args)],
-                          capture_output=True, text=True)
+def _cli(capsys, *args):
+    """``rotordyn-modal ARGS`` run by ``cli.main`` in this process (these tests read its exit code
+    and its error lines, not the process's own behaviour: tests/test_cli.py runs real processes)."""
+    from types import SimpleNamespace
+
+    from rotordyn_modal.cli import main
+
+    capsys.readouterr()
+    code = main([str(a) for a in args])
+    return SimpleNamespace(returncode=code, stderr=capsys.readouterr().err)
 
 
-def test_command_line_shape_and_animation(tmp_path):
+def test_command_line_shape_and_animation(tmp_path, capsys):
     gear = EXAMPLES / "gear_machine.toml"
-    done = _cli("modes", gear, "--speed", 3000, "--shape", 5, "--plot", tmp_path / "m5.png", "--quiet")
+    done = _cli(capsys, "modes", gear, "--speed", 3000, "--shape", 5, "--plot", tmp_path / "m5.png", "--quiet")
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "m5.png").read_bytes()[:4] == b"\x89PNG"
     outline = tmp_path / "outline.csv"
     outline.write_text("x,y,z\n0,0,0\n0.5,0,0\n\n0,0,0.3\n0.5,0,0.3\n")
-    done = _cli("modes", gear, "--speed", 3000, "--animate", 2, "--frames", 3, "--outline", outline,
+    done = _cli(capsys, "modes", gear, "--speed", 3000, "--animate", 2, "--frames", 3, "--outline", outline,
                 "--plot", tmp_path / "m2.gif", "--quiet")
     assert done.returncode == 0, done.stderr
     assert len(_gif_frame_durations(tmp_path / "m2.gif")) == 3
@@ -260,9 +266,9 @@ def test_command_line_shape_and_animation(tmp_path):
     (["--shape", "1", "--outline", "{tmp}/o.csv", "--plot", "{tmp}/x.png"], "the outline needs the columns x,y,z"),
     (["--animate", "1", "--frames", "1", "--plot", "{tmp}/x.gif"], "--frames 1: expected a whole number"),
 ])
-def test_command_line_refusals(tmp_path, args, message):
+def test_command_line_refusals(tmp_path, capsys, args, message):
     (tmp_path / "o.csv").write_text("a,b\n1,2\n")
-    done = _cli("modes", EXAMPLES / "gear_machine.toml", *[a.format(tmp=tmp_path) for a in args])
+    done = _cli(capsys, "modes", EXAMPLES / "gear_machine.toml", *[a.format(tmp=tmp_path) for a in args])
     assert done.returncode == 2 and message in done.stderr, done.stderr
     assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.gif").exists()
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import ast
+import functools
 import re
 from pathlib import Path
 
@@ -89,6 +90,13 @@ def _targets(node, package: str, known) -> set[str]:
 
 def import_graph(module_level_only: bool = False) -> dict[str, set[str]]:
     """Module -> the package's modules it imports (names like ``rotordyn_modal.study.definition``)."""
+    return {name: set(targets) for name, targets in _import_graph(module_level_only).items()}
+
+
+@functools.lru_cache(maxsize=None)
+def _import_graph(module_level_only: bool) -> dict[str, set[str]]:
+    """:func:`import_graph`, parsed once per process (the package's files do not change during
+    a test run; each test gets its own copy)."""
     known = modules()
     graph = {}
     for name, path in known.items():

@@ -220,7 +220,10 @@ def _join_long_labels(ax, labels, crossings, drawn, place):
     fan_on_bearings chosen, '3939/3943/3959/4184' (four circles on two stiffness lines 4 points
     apart, between three rising curves and three bearing lines) stood 42.5 points from its
     circles; joined by '3608' (its circle 4 points below), '3608/3939/3943/3959/4184' stands
-    7.7 points below them, where '3608' stood."""
+    7.7 points below them, where '3608' stood. Each join is tried on one line, then on two
+    (:func:`_shared_text`), and a shared label alone on two lines: on that map '3644' stood 28.7
+    points away, nearer the 3394 rpm circle than its own, and '8029/8514' 27 points away, nearer
+    6956's; '3394/' over '3644' and '8029/' over '8514' stand 17 points from their circles."""
     for _ in range(_ROUNDS):
         before = _leader_lengths(ax, drawn)
         if not any(_join_one(ax, labels, crossings, drawn, place, (text, before))

@@ -126,7 +126,8 @@ def test_the_fans_crowded_ucs_crossings_are_each_labelled_with_no_leader_across_
     segments = curve_segments(ax, skip=[line for line in ax.get_lines() if line not in modes] + list(ax.collections))
     # circles that lie on each other share a label ('3939/3959', figs27r): each speed is a word
     labels = {(round(float(t.xy[0]), 3), word): t for t in ax.texts
-              if t.get_gid() != "ucs-end-name" and t.arrow_patch is not None for word in t.get_text().split("/")}
+              if t.get_gid() != "ucs-end-name" and t.arrow_patch is not None
+              for word in t.get_text().replace("\n", "").split("/")}      # a label may stand on two lines
     crossings = {(round(c.stiffness, 3), f"{c.speed * 30 / np.pi:.0f}") for c in result.crossings}
     # ... and circles side by side on two stiffness lines that touch (figs27r): such a label's
     # point is one of them, the others within a circle's width (6 points) of it

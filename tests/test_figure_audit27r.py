@@ -42,8 +42,8 @@ def _ucs_label_problems(result, fig):
     centres = ax.transData.transform(np.column_stack([[c.stiffness for c in result.crossings], rpm]))
     words = np.array([f"{s:.0f}" for s in rpm])
     labels = [t for t in ax.texts if t.get_gid() != "ucs-end-name" and t.arrow_patch is not None and t.get_visible()
-              and t.get_text().replace("/", "").isdigit() and len(t.get_text()) >= 3]
-    problems = [f"unlabelled {w}" for w in sorted(set(words) - {w for t in labels for w in t.get_text().split("/")})]
+              and t.get_text().replace("/", "").replace("\n", "").isdigit() and len(t.get_text()) >= 3]
+    problems = [f"unlabelled {w}" for w in sorted(set(words) - {w for t in labels for w in t.get_text().replace("\n", "").split("/")})]
     boxes = [glyph_box(t, renderer) for t in labels]
     for text, box in zip(labels, boxes):
         name = text.get_text()
@@ -56,7 +56,7 @@ def _ucs_label_problems(result, fig):
         way = anchor - start
         t = np.clip((centres - start) @ way / max(float(way @ way), 1e-12), 0.0, 1.0)
         through = np.hypot(*(start + t[:, None] * way - centres).T) < radius - 0.5
-        others = (np.hypot(*(centres - anchor).T) > radius) & ~np.isin(words, name.split("/"))
+        others = (np.hypot(*(centres - anchor).T) > radius) & ~np.isin(words, name.replace("\n", "").split("/"))
         if np.any(through & others):
             problems.append(f"{name} through the circle of {sorted(set(words[through & others]))}")
     for i, a in enumerate(boxes):

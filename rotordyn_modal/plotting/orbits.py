@@ -10,6 +10,8 @@ from ..units import rpm_text
 __all__ = ["plot_orbits"]
 
 _SCALE = {"displacement": (1e6, "µm"), "velocity": (1e3, "mm/s"), "acceleration": (1.0, "m/s²")}
+#: the orbit panels reach this much beyond the largest orbit drawn (a fraction of its reach)
+_MARGIN = 0.1
 
 
 def plot_orbits(result, speeds=None, source=None, title: str | None = None, units: str = "si"):
@@ -54,16 +56,26 @@ def _draw_orbit(ax, result, p, s, chosen, scale, unit):
     from matplotlib.ticker import MaxNLocator
 
     pair = result.orbit_pairs[p]
+    reach = 0.0
     for n, k in enumerate(chosen):
         path = result.orbit_path(p, s, k) * scale
+        reach = max(reach, float(np.max(np.abs(path))))
         colour = f"C{n % 10}"
         ax.plot(path[0], path[1], color=colour, label=f"{rpm_text(result.speeds[k] * 30 / np.pi)} rpm")
         ax.plot(path[0, 0], path[1, 0], "o", color=colour, ms=5)      # keyphasor: t = 0
         ax.annotate("", xy=(path[0, 12], path[1, 12]), xytext=(path[0, 6], path[1, 6]),
                     arrowprops={"arrowstyle": "->", "color": colour})
-    ax.set_aspect("equal", adjustable="datalim")
-    # at most six ticks across: labels like '-0.0075' (orbits of nanometres) ran into each other
-    ax.xaxis.set_major_locator(MaxNLocator(nbins=5))
+    # a square of fixed limits, the axes' box made square: with the limits left to the aspect
+    # (adjustable 'datalim') they widened after the layout, and a tick label the layout had not
+    # made room for ran off the figure ('0.010' of flexible_pump_on_mounts' pump orbit, US units)
+    reach = reach * (1.0 + _MARGIN) if reach > 0.0 else 1.0
+    ax.set_xlim(-reach, reach)
+    ax.set_ylim(-reach, reach)
+    ax.set_aspect("equal", adjustable="box")
+    # at most five ticks across (the same up, on the square panel): labels like '-0.0075'
+    # (orbits of nanometres) ran into each other, '-0.00030' at six ticks on the square
+    ax.xaxis.set_major_locator(MaxNLocator(nbins=4))
+    ax.yaxis.set_major_locator(MaxNLocator(nbins=4))
     ax.axhline(0, color="0.8", lw=0.6)
     ax.axvline(0, color="0.8", lw=0.6)
     ax.set_xlabel(f"{pair[0]} [{unit}]")

@@ -157,7 +157,7 @@ def _place_labels(ax, labels, first=0, count=0):
         return
     renderer = laid_out_renderer(ax.figure)
 
-    def place(touching, pairs=()):
+    def place(touching, pairs=(), broken=()):
         groups = [[k] for k in range(first)] + _touching(ax, labels[first:first + count], first, touching) \
             + [[k] for k in range(first + count, len(labels))]
         for pair in pairs:              # two groups joined (:func:`_pair_long_leader`, :func:`_join_long_labels`)
@@ -166,13 +166,13 @@ def _place_labels(ax, labels, first=0, count=0):
                 a += b
                 groups.remove(b)
         anchors = [labels[g[0]][:2] for g in groups]
-        texts = ["/".join(dict.fromkeys(labels[k][2] for k in sorted(g, key=lambda k: labels[k][1]))) for g in groups]
+        texts = [_shared_text(labels, g, set(g) & set(broken)) for g in groups]
         members = [[labels[k][:2] for k in g[1:]] for g in groups]
         drawn = place_point_labels(ax, anchors, texts, [labels[g[0]][3] for g in groups], renderer=renderer,
                                    members=members)
         for text in drawn:
             _lead_to_nearest(ax, text, members[texts.index(text.get_text())], renderer)
-            text.ucs_grouping = (touching, tuple(pairs))      # how the kept labels were grouped
+            text.ucs_grouping = (touching, tuple(pairs), tuple(broken))      # how the kept labels were grouped
             text.ucs_indices = groups[texts.index(text.get_text())]
         return drawn, _crossing_leaders(ax, drawn, {t: m for t, m in zip(texts, members)}, circles)
 
@@ -220,7 +220,10 @@ def _join_long_labels(ax, labels, crossings, drawn, place):
     fan_on_bearings chosen, '3939/3943/3959/4184' (four circles on two stiffness lines 4 points
     apart, between three rising curves and three bearing lines) stood 42.5 points from its
     circles; joined by '3608' (its circle 4 points below), '3608/3939/3943/3959/4184' stands
-    7.7 points below them, where '3608' stood."""
+    7.7 points below them, where '3608' stood. Each join is tried on one line, then on two
+    (:func:`_shared_text`), and a shared label alone on two lines: on that map '3644' stood 28.7
+    points away, nearer the 3394 rpm circle than its own, and '8029/8514' 27 points away, nearer
+    6956's; '3394/' over '3644' and '8029/' over '8514' stand 17 points from their circles."""
     for _ in range(_ROUNDS):
         before = _leader_lengths(ax, drawn)
         if not any(_join_one(ax, labels, crossings, drawn, place, (text, before))
@@ -241,22 +244,32 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
     owner = next(t for t in drawn if t.get_text() == text)
     if not hasattr(owner, "ucs_indices"):
         return False
-    touching, pairs = owner.ucs_grouping
+    touching, pairs, broken = owner.ucs_grouping
     circles = [label[:2] for label in labels[first:first + count]]
     crossing = _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
-    for joined in _nearest_others(ax, labels, (first, count), owner.ucs_indices):
+    lead = owner.ucs_indices[0]
+    # joined with one of the nearest circles, on one line, then on two; a shared label alone on two
+    tries = [(joined, lines) for joined in _nearest_others(ax, labels, (first, count), owner.ucs_indices)
+             for lines in (1, 2)] + [(None, 2)] * (len(owner.ucs_indices) > 1 and lead not in broken)
+    for joined, lines in tries:
         for t in drawn:
             t.set_visible(False)
-        group = owner.ucs_indices + [joined]
-        shared = "/".join(dict.fromkeys(labels[k][2] for k in sorted(group, key=lambda k: labels[k][1])))
-        tried, _ = place(touching, pairs + ((joined, owner.ucs_indices[0]),))
+        group = owner.ucs_indices + ([] if joined is None else [joined])
+        split = broken + ((lead,) if lines == 2 else ())
+        shared = _shared_text(labels, group, lines == 2)
+        tried, _ = place(touching, pairs + ((() if joined is None else ((joined, lead),))), split)
         _shorter_leaders(ax, tried, [label[:2] for label in labels], _members(labels, first, count, tried))
         through = _crossing_leaders(ax, tried, _members(labels, first, count, tried), circles)
         after = _leader_lengths(ax, tried)
-        named = {part: length for label, length in before.items() for part in label.split("/")}
-        fair = all(length <= max(named.get(part, 0.0) for part in label.split("/")) + 0.5
+        named = {part: length for label, length in before.items() for part in _words(label)}
+        fair = all(length <= max(named.get(part, 0.0) for part in _words(label)) + 0.5
                    for label, length in after.items() if label != shared)
-        if after.get(shared, np.inf) < longest and fair and through[0] <= crossing[0] \
+        # on two lines only where that ends the misreading: the label within _LONG_LEADER of its
+        # circles and nearer them than any other (a two-line join 30 points away, kept for a
+        # point's gain, took the place that let '6956' join '8029/8514' on the fan's 1e5 .. 1e10 map)
+        settled = lines == 1 or after.get(shared, np.inf) <= _LONG_LEADER \
+            and _names_its_own(ax, next(t for t in tried if t.get_text() == shared), labels, crossings)
+        if after.get(shared, np.inf) < longest and fair and settled and through[0] <= crossing[0] \
                 and sum(through) <= sum(crossing):
             for t in drawn:
                 t.remove()
@@ -267,6 +280,27 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
         for t in drawn:
             t.set_visible(True)
     return False
+
+
+def _names_its_own(ax, text, labels, crossings) -> bool:
+    """Whether the label ``text`` (an annotation naming crossings of ``labels``) stands nearer a
+    circle it names than any other crossing's circle, laid out at :data:`SAVED_DPI`."""
+    from matplotlib.text import Text
+
+    from ._labels import laid_out_renderer
+
+    first, count = crossings
+    words = set(_words(text.get_text()))
+    mine = np.array([labels[k][2] in words for k in range(first, first + count)])
+    if not mine.any() or mine.all():
+        return bool(mine.any())
+    centres = _circle_centres(ax, labels, first, count)
+    with _at_saved_dpi(ax.figure):
+        renderer = laid_out_renderer(ax.figure)
+        text.update_positions(renderer)
+        box = np.array(Text.get_window_extent(text, renderer).extents)
+    distance = np.hypot(*(np.clip(centres, box[:2], box[2:]) - centres).T)
+    return bool(distance[mine].min() < distance[~mine].min())
 
 
 @contextmanager
@@ -322,7 +356,7 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
     text, longest = max(before.items(), key=lambda item: item[1])
     if longest <= _LONG_LEADER:
         return
-    index = [k for k in range(first, first + count) if labels[k][2] == text.split("/")[0]]
+    index = [k for k in range(first, first + count) if labels[k][2] == _words(text)[0]]
     if len(index) != 1 or "/" in text:
         return
     centres = _circle_centres(ax, labels, first, count)
@@ -340,8 +374,8 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
     _shorter_leaders(ax, paired, [label[:2] for label in labels], _members(labels, first, count, paired))
     through = _crossing_leaders(ax, paired, _members(labels, first, count, paired), circles)
     after = _leader_lengths(ax, paired)
-    named = {part: length for label, length in before.items() for part in label.split("/")}
-    fair = all(length <= max(named.get(part, 0.0) for part in label.split("/")) + 0.5
+    named = {part: length for label, length in before.items() for part in _words(label)}
+    fair = all(length <= max(named.get(part, 0.0) for part in _words(label)) + 0.5
                for label, length in after.items())
     if max(after.values(), default=0.0) < longest and fair and through[0] <= crossing[0] and sum(through) <= sum(crossing):
         for t in drawn:
@@ -357,7 +391,24 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
 def _members(labels, first, count, drawn) -> dict:
     """Each crossing label's text -> the points (data coordinates) of the speeds it names."""
     where = {labels[k][2]: labels[k][:2] for k in range(first, first + count)}
-    return {t.get_text(): [where[part] for part in t.get_text().split("/") if part in where] for t in drawn}
+    return {t.get_text(): [where[part] for part in _words(t.get_text()) if part in where] for t in drawn}
+
+
+def _shared_text(labels, group, broken=False) -> str:
+    """The label of the crossings ``group`` (indices into ``labels``): their speeds, lowest
+    first, joined by '/'; ``broken``: on two lines, broken after the middle '/' (a label
+    naming two or more circles, narrow enough for a gap between curves where one line is not:
+    '8029/' over '8514' on the fan's map with every bearing chosen)."""
+    words = list(dict.fromkeys(labels[k][2] for k in sorted(group, key=lambda k: labels[k][1])))
+    half = (len(words) + 1) // 2
+    if not broken or len(words) < 2:
+        return "/".join(words)
+    return "/".join(words[:half]) + "/\n" + "/".join(words[half:])
+
+
+def _words(text) -> list:
+    """The speeds a crossing's label names ('3644/\\n3943' -> ['3644', '3943'])."""
+    return text.replace("\n", "").split("/")
 
 
 def _leader_lengths(ax, drawn) -> dict:

@@ -401,14 +401,20 @@ def _low_rotor_mode_lines(model) -> list[str]:
     lowest = float(np.sqrt(max(values[k], noise)) / (2 * np.pi))
     energy = shape * (mass @ shape)
     rotor = _coordinate_rotor(model, first + int(np.argmax(np.abs(energy))))
-    held_by = [f"[bearings.{visible(b.name)}]" for b in model.bearings if b.rotor == rotor]
     at = f"at {lowest:.3g} Hz" if values[k] > noise else f"below {lowest:.2g} Hz (how far, round-off hides)"
+    return [_low_rotor_line(model, rotor, at, "the stator held")]
+
+
+def _low_rotor_line(model, rotor: str, at: str, how: str) -> str:
+    """The one line of :func:`_low_rotor_mode_lines` and :func:`_rigid_rotor_bound_lines`: rotor
+    ``rotor``'s rigid-body mode ``at`` ("at 0.02 Hz"), found with ``how`` (what was held)."""
+    held_by = [f"[bearings.{visible(b.name)}]" for b in model.bearings if b.rotor == rotor]
     when = ("at their tables' lowest speeds" if any(b.coefficients.kind == "table" for b in model.bearings
                                                      if b.rotor == rotor) else "at rest")
-    return [f"{model.source}: rotor {visible(rotor)!r} has a rigid-body mode {at} in its bearings "
-            f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; {when}, the stator held), below "
+    return (f"{model.source}: rotor {visible(rotor)!r} has a rigid-body mode {at} in its bearings "
+            f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; {when}, {how}), below "
             f"{LOWEST_MOUNT_FREQUENCY:g} Hz, where bearings hold a rotor far stiffer: a stiffness in N/mm given as "
-            "N/m, or a mass in g given as kg, puts modes 32 times too low"]
+            "N/m, or a mass in g given as kg, puts modes 32 times too low")
 
 
 def _rigid_rotor_bound_lines(model) -> list[str]:
@@ -443,14 +449,7 @@ def _rigid_rotor_bound_lines(model) -> list[str]:
     bound = float(np.sqrt(max(lowest[j], 0.0)) / (2 * np.pi))
     if not bound < LOWEST_MOUNT_FREQUENCY:
         return []
-    rotor = dofs.rotors[j]
-    held_by = [f"[bearings.{visible(b.name)}]" for b in model.bearings if b.rotor == rotor]
-    when = ("at their tables' lowest speeds" if any(b.coefficients.kind == "table" for b in model.bearings
-                                                     if b.rotor == rotor) else "at rest")
-    return [f"{model.source}: rotor {visible(rotor)!r} has a rigid-body mode at {bound:.3g} Hz or below in its bearings "
-            f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; {when}, moved as a rigid body, the rest "
-            f"held), below {LOWEST_MOUNT_FREQUENCY:g} Hz, where bearings hold a rotor far stiffer: a stiffness in N/mm "
-            "given as N/m, or a mass in g given as kg, puts modes 32 times too low"]
+    return [_low_rotor_line(model, dofs.rotors[j], f"at {bound:.3g} Hz or below", "moved as a rigid body, the rest held")]
 
 
 def _rotor_blocks(matrix, dofs) -> list:

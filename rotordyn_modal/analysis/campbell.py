@@ -1225,7 +1225,7 @@ def _halved(stack, speeds, steps, count, more, at, lam, rows, bar, described, me
     memo = {} if memo is None else memo
     halves = dict(grids)                                 # the steps (re)judged at the next level
     for level in range(_CHECK_LEVELS):
-        halves = {k: _grid_tracking(lam, rows, count, where, grids[k], memo)[1] for k in halves}
+        halves = {k: _grid_tracking(lam, rows, count, where, grids[k], memo, stack)[1] for k in halves}
         halves = {k: parts for k, parts in halves.items() if len(parts)}
         if not halves:
             break
@@ -1266,17 +1266,69 @@ def _check_roots(stack, speeds, more):
         return lam, WeightedRows(stack, phi[None], one_thread=True)[0]
 
 
-def _grid_tracking(lam, rows, count, where, grid, memo):
+def _grid_tracking(lam, rows, count, where, grid, memo, stack=None):
     """The check's tracking over one step's ``grid`` (indices into ``lam`` (P, m), ``rows`` (P, m, n),
     ``where`` (P,)): ``(order, unsure parts, untold)`` as :func:`_unsure_parts` and
     :func:`_unsure_labels` give them, kept in ``memo`` by the grid's indices (the same indices are
-    the same roots within one check: its arrays only grow)."""
+    the same roots within one check: its arrays only grow). With ``stack``, a part whose unsure
+    labels are each one of two neighbouring roots shown never to meet over it (nor another root)
+    and tracked each to its own rank is sure (:func:`_pairs_settled`)."""
     key = tuple(int(i) for i in grid)
     if key not in memo:
         order = track_modes_many(lam[grid][None], rows[grid][None], where[grid])[0]
         unsure, untold = _unsure_labels(lam[grid], rows[grid], count, order)
+        if stack is not None and unsure.any():
+            unsure = _pairs_settled(stack, lam[grid], where[grid], order, unsure)
         memo[key] = order, [int(p) for p in np.flatnonzero(unsure.any(axis=1))], untold
     return memo[key]
+
+
+def _pairs_settled(stack, lam, where, order, unsure):
+    """``unsure`` (P - 1, m) with the labels cleared whose pairing over a part the roots' values
+    settle: on the Hermitian route of an undamped gyroscopic model, two neighbouring roots that
+    :func:`._lowest_pairs.pairs_kept` shows distinct, and apart from every other, at every speed of
+    the part keep their ranks over it; a label that is one of them, and whose tracked root (as its
+    partner's) has the same rank at both ends, is paired as the roots are. ``lam`` (P, m) the
+    check's roots at its speeds ``where`` (P,) [rad/s] over one step, ``order`` (P, m) their tracking.
+
+    Parameters
+    ----------
+    stack : Stack
+    lam : ndarray, shape (P, m), complex [1/s]
+    where : ndarray, shape (P,) [rad/s]
+    order : ndarray of int, shape (P, m)
+    unsure : ndarray of bool, shape (P - 1, m)
+
+    Returns
+    -------
+    ndarray of bool, shape (P - 1, m)
+    """
+    from ._lowest_pairs import pairs_kept
+
+    unsure = unsure.copy()
+    frequency = np.abs(lam.imag)
+    rank = np.argsort(np.argsort(frequency, axis=-1, kind="stable"), axis=-1, kind="stable")    # (P, m) of each root
+    for p in np.flatnonzero(unsure.any(axis=1)):
+        ranks = rank[p, order[p]]                            # each label's rank at the part's ends
+        kept = ranks == rank[p + 1, order[p + 1]]
+        by_rank = np.argsort(ranks)                          # the label of each rank at the first end
+        ascending = frequency[p, order[p, by_rank]]
+        lower = {}
+        for label in np.flatnonzero(unsure[p]):
+            r = int(ranks[label])
+            below = ascending[r] - ascending[r - 1] if r > 0 else np.inf
+            above = ascending[r + 1] - ascending[r] if r + 1 < len(ascending) else np.inf
+            first = r - 1 if below < above else r            # the pair with its nearer neighbour
+            if 0 <= first and first + 1 < len(ascending) and kept[by_rank[first]] and kept[by_rank[first + 1]]:
+                lower[int(label)] = first
+        if not lower:
+            continue
+        firsts = sorted(set(lower.values()))
+        shown = dict(zip(firsts, pairs_kept(stack, float(where[p]), float(where[p + 1]), firsts)))
+        for label, first in lower.items():
+            if shown[first]:
+                unsure[p, label] = False
+    return unsure
 
 
 def _unsure_parts(lam, rows, count, where=None) -> list:

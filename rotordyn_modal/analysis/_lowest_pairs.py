@@ -55,7 +55,7 @@ def pairs_kept(stack, start: float, stop: float, ranks) -> np.ndarray:
     -------
     ndarray of bool, shape (len(ranks),)
     """
-    from ._lowest import DENSE_BELOW, _hermitian_eigenvectors, _hermitian_form
+    from ._lowest import DENSE_BELOW, _hermitian_eigenvectors, _hermitian_form, _kept_reductions
 
     ranks = [int(r) for r in ranks]
     kept = np.zeros(len(ranks), dtype=bool)
@@ -64,7 +64,8 @@ def pairs_kept(stack, start: float, stop: float, ranks) -> np.ndarray:
     if hermitian is None or not all(0 <= r < n - 1 for r in ranks):
         return kept
     constant, gyroscopic = hermitian
-    omega, vectors = _hermitian_eigenvectors(constant, gyroscopic, np.array([float(start)]), max(ranks) + 2)
+    omega, vectors = _hermitian_eigenvectors(constant, gyroscopic, np.array([float(start)]), max(ranks) + 2,
+                                             _kept_reductions(stack))
     if vectors is None:
         return kept
     matrix = constant + float(start) * gyroscopic

@@ -104,7 +104,8 @@ def _speed_norm(stack, gyroscopic) -> float:
     """``|B_1|_2``, the spectral norm of the speed part of ``B`` (kept on the stack)."""
     cached = stack.__dict__.get("_lowest_speed_norm")
     if cached is None:
-        cached = stack.__dict__["_lowest_speed_norm"] = float(np.abs(np.linalg.eigvalsh(gyroscopic)).max())
+        part = gyroscopic.imag if not np.any(gyroscopic.real) else gyroscopic      # B_1 = i S_1: |B_1| = |S_1|
+        cached = stack.__dict__["_lowest_speed_norm"] = float(np.linalg.norm(part, 2)) * (1 + 1e-12)
     return cached
 
 

@@ -1020,6 +1020,13 @@ def _gyroscopic_roots(stack, speeds):
 _KEPT_REDUCTIONS_BYTES = 8 * 2**20
 
 
+def _kept_vectors(stack) -> dict:
+    """``{speed: (eigenvalues (N,), eigenvectors (N, count))}`` of the Hermitian route's ``B`` at the
+    speeds :func:`weighted_lowest_roots` solved on ``stack``, kept on it (the latest of a speed's):
+    ``_lowest_pairs.pairs_kept`` starts from them."""
+    return stack.__dict__.setdefault("_lowest_vectors", {})
+
+
 def _kept_reductions(stack) -> dict:
     """``{speed: (reduction (N, N), tau (N - 1,), eigenvalues (N,))}`` of the Hermitian route's
     ``B`` at the speeds solved on ``stack`` (:func:`_gyroscopic_roots`), kept on it."""
@@ -1077,6 +1084,7 @@ def weighted_lowest_roots(stack, speeds, count):
         omega, vectors = _hermitian_eigenvectors(constant, gyroscopic, speeds, count, _kept_reductions(stack))
     if vectors is None:
         return None
+    _kept_vectors(stack).update((float(speed), (omega[p], vectors[p])) for p, speed in enumerate(speeds))
     if _near_zero(constant, gyroscopic, speeds, omega).any() or _close_upper(omega[:, n:], count).any():
         return None
     return 1j * omega[:, n:n + count], unit_rows(np.swapaxes(vectors[:, n:], 1, 2))

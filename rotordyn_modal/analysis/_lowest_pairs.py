@@ -55,7 +55,7 @@ def pairs_kept(stack, start: float, stop: float, ranks) -> np.ndarray:
     -------
     ndarray of bool, shape (len(ranks),)
     """
-    from ._lowest import DENSE_BELOW, _hermitian_eigenvectors, _hermitian_form, _kept_reductions
+    from ._lowest import DENSE_BELOW, _hermitian_eigenvectors, _hermitian_form, _kept_reductions, _kept_vectors
 
     ranks = [int(r) for r in ranks]
     kept = np.zeros(len(ranks), dtype=bool)
@@ -64,40 +64,46 @@ def pairs_kept(stack, start: float, stop: float, ranks) -> np.ndarray:
     if hermitian is None or not all(0 <= r < n - 1 for r in ranks):
         return kept
     constant, gyroscopic = hermitian
-    omega, vectors = _hermitian_eigenvectors(constant, gyroscopic, np.array([float(start)]), max(ranks) + 2,
-                                             _kept_reductions(stack))
+    known = _kept_vectors(stack).get(float(start))
+    if known is not None and known[1].shape[1] >= max(ranks) + 2:      # the check's own solve at the speed
+        omega, vectors = known[0][None], known[1][None]
+    else:
+        omega, vectors = _hermitian_eigenvectors(constant, gyroscopic, np.array([float(start)]), max(ranks) + 2,
+                                                 _kept_reductions(stack))
     if vectors is None:
         return kept
     matrix = constant + float(start) * gyroscopic
     scale = _ROUND_OFF * np.finfo(float).eps * np.linalg.norm(matrix)
-    norm = _speed_norm(stack, gyroscopic)
-    for i, r in enumerate(ranks):
-        basis = _orthonormal(vectors[0][:, r:r + 2])
-        rest = np.delete(omega[0], [n + r, n + r + 1])
-        kept[i] = _pair_bounds_hold(matrix, gyroscopic, basis, rest, float(stop) - float(start), norm, scale)
-    return kept
+    firsts = np.array(ranks)
+    bases = _orthonormal(np.stack([vectors[0][:, firsts].T, vectors[0][:, firsts + 1].T], axis=-1))   # (k, N, 2)
+    others = np.ones((len(ranks), len(omega[0])), dtype=bool)
+    others[np.arange(len(ranks)), n + firsts] = others[np.arange(len(ranks)), n + firsts + 1] = False
+    rest = np.broadcast_to(omega[0], others.shape)[others].reshape(len(ranks), -1)
+    return _pair_bounds_hold(matrix, gyroscopic, bases, rest, float(stop) - float(start),
+                             _speed_norm(stack, gyroscopic), scale)
 
 
-def _orthonormal(pair):
-    """The two columns of ``pair`` (N, 2) made orthonormal (Gram-Schmidt, twice)."""
-    first = pair[:, 0] / np.linalg.norm(pair[:, 0])
-    second = pair[:, 1]
+def _orthonormal(pairs):
+    """The two columns of each of ``pairs`` (k, N, 2) made orthonormal (Gram-Schmidt, twice)."""
+    first = pairs[..., 0] / np.linalg.norm(pairs[..., 0], axis=-1, keepdims=True)
+    second = pairs[..., 1]
     for _ in range(2):
-        second = second - first * (first.conj() @ second)
-    return np.stack([first, second / np.linalg.norm(second)], axis=1)
+        second = second - first * np.sum(first.conj() * second, axis=-1, keepdims=True)
+    return np.stack([first, second / np.linalg.norm(second, axis=-1, keepdims=True)], axis=-1)
 
 
-def _norm_2(columns) -> float:
-    """Spectral norm of ``columns`` (N, 2): the square root of the larger eigenvalue of its 2 x 2 Gram matrix."""
-    gram = columns.conj().T @ columns
-    return float(np.sqrt(max(_top_eigenvalue(gram), 0.0)))
+def _norms_2(columns):
+    """Spectral norms (k,) of ``columns`` (k, N, 2): the square roots of the larger eigenvalues of
+    their 2 x 2 Gram matrices."""
+    gram = np.swapaxes(columns.conj(), -1, -2) @ columns
+    return np.sqrt(np.maximum(_top_eigenvalues(gram), 0.0))
 
 
-def _top_eigenvalue(hermitian) -> float:
-    """The larger eigenvalue of a 2 x 2 Hermitian matrix (closed form)."""
-    mean = 0.5 * (hermitian[0, 0] + hermitian[1, 1]).real
-    half = 0.5 * (hermitian[0, 0] - hermitian[1, 1]).real
-    return mean + float(np.hypot(half, abs(hermitian[0, 1])))
+def _top_eigenvalues(hermitian):
+    """The larger eigenvalues (k,) of 2 x 2 Hermitian matrices (k, 2, 2) (closed form)."""
+    mean = 0.5 * (hermitian[:, 0, 0] + hermitian[:, 1, 1]).real
+    half = 0.5 * (hermitian[:, 0, 0] - hermitian[:, 1, 1]).real
+    return mean + np.hypot(half, np.abs(hermitian[:, 0, 1]))
 
 
 def _speed_norm(stack, gyroscopic) -> float:
@@ -109,53 +115,58 @@ def _speed_norm(stack, gyroscopic) -> float:
     return cached
 
 
-def _pair_bounds_hold(matrix, speed_part, basis, rest, step, speed_norm, scale) -> bool:
+def _pair_bounds_hold(matrix, speed_part, bases, rest, step, speed_norm, scale) -> np.ndarray:
     """:func:`pairs_kept`'s test from ``B(a)`` (``matrix``, Hermitian (N, N)), ``B_1``
-    (``speed_part``), the pair's orthonormal ``basis`` (N, 2), the other computed eigenvalues
-    ``rest`` (N - 2,) of ``B(a)``, the ``step`` to the last speed [rad/s], ``|B_1|_2``
+    (``speed_part``), each pair's orthonormal basis ``bases`` (k, N, 2), the other computed
+    eigenvalues ``rest`` (k, N - 2) of ``B(a)``, the ``step`` to the last speed [rad/s], ``|B_1|_2``
     (``speed_norm``) and the eigenvalues' round-off ``scale``.
 
     Returns
     -------
-    bool
+    ndarray of bool, shape (k,)
         Over every ``t`` between 0 and ``step``, ``A(t)``'s gap and the distance ``eta`` of its
         eigenvalues to ``C(t)``'s each exceed twice the Li-Li bound.
     """
     step_sign = 1.0 if step >= 0 else -1.0
     length = abs(step)
-    first = basis.conj().T @ (matrix @ basis)
-    first = 0.5 * (first + first.conj().T)                      # A(0)
-    moved = speed_part @ basis
-    slope = basis.conj().T @ moved
-    slope = step_sign * 0.5 * (slope + slope.conj().T)          # dA/dt, t = |Omega - a|
-    residual = _norm_2(matrix @ basis - basis @ first)
-    coupling = _norm_2(moved - basis @ (basis.conj().T @ moved))                # e_1
-    slope_norm = max(abs(_top_eigenvalue(slope)), abs(_top_eigenvalue(-slope)))
+    adjoint = np.swapaxes(bases.conj(), -1, -2)                  # (k, 2, N)
+    applied = matrix @ bases
+    first = adjoint @ applied
+    first = 0.5 * (first + np.swapaxes(first.conj(), -1, -2))    # A(0)
+    moved = speed_part @ bases
+    slope = adjoint @ moved
+    slope = step_sign * 0.5 * (slope + np.swapaxes(slope.conj(), -1, -2))     # dA/dt, t = |Omega - a|
+    residual = _norms_2(applied - bases @ first)
+    coupling = _norms_2(moved - bases @ (adjoint @ moved))                   # e_1
+    slope_norm = np.maximum(np.abs(_top_eigenvalues(slope)), np.abs(_top_eigenvalues(-slope)))
     edges = np.linspace(0.0, length, _PIECES + 1)
-    low, high = edges[:-1], edges[1:]
+    low, high = edges[:-1], edges[1:]                            # (pieces,)
     # A(t)'s gap squared, (a11 - a22)^2 + 4 |a12|^2, a quadratic in t: its least on each part exactly
-    d0, d1 = (first[0, 0] - first[1, 1]).real, (slope[0, 0] - slope[1, 1]).real
-    o0, o1 = first[0, 1], slope[0, 1]
-    c2 = d1 * d1 + 4 * abs(o1) ** 2
-    c1 = 2 * d0 * d1 + 8 * (o0.conjugate() * o1).real
-    c0 = d0 * d0 + 4 * abs(o0) ** 2
+    d0, d1 = (first[:, 0, 0] - first[:, 1, 1]).real[:, None], (slope[:, 0, 0] - slope[:, 1, 1]).real[:, None]
+    o0, o1 = first[:, 0, 1][:, None], slope[:, 0, 1][:, None]
+    c2 = d1 * d1 + 4 * np.abs(o1) ** 2                           # (k, 1)
+    c1 = 2 * d0 * d1 + 8 * (o0.conj() * o1).real
+    c0 = d0 * d0 + 4 * np.abs(o0) ** 2
 
     def square(t):
         return (c2 * t + c1) * t + c0
 
-    least = np.minimum(square(low), square(high))
-    if c2 > 0:
-        vertex = -c1 / (2 * c2)
-        inside = (low < vertex) & (vertex < high)
-        least = np.where(inside, np.minimum(least, square(vertex)), least)
+    least = np.minimum(square(low), square(high))                # (k, pieces)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        vertex = np.where(c2 > 0, -c1 / np.where(c2 > 0, 2 * c2, 1.0), -np.inf)
+    inside = (low < vertex) & (vertex < high)
+    least = np.where(inside, np.minimum(least, square(np.where(inside, vertex, 0.0))), least)
     gap = np.sqrt(np.maximum(least, 0.0)) - 2 * scale
     # A(t)'s eigenvalues at each part's start, then moving at most |dA/dt| over it
-    mean = 0.5 * (first[0, 0] + first[1, 1]).real + 0.5 * (slope[0, 0] + slope[1, 1]).real * low
+    mean = 0.5 * (first[:, 0, 0] + first[:, 1, 1]).real[:, None] + 0.5 * (slope[:, 0, 0] + slope[:, 1, 1]).real[:, None] * low
     half = 0.5 * np.sqrt(np.maximum(square(low), 0.0))
-    ends = np.stack([mean - half, mean + half], axis=-1)                         # (pieces, 2)
-    distance = np.abs(ends[:, :, None] - rest[None, None, :]).min(axis=(1, 2)) if len(rest) else np.full(len(low), np.inf)
-    eta = distance - (high - low) * slope_norm - high * speed_norm - residual - scale
-    size = residual + high * coupling
-    with np.errstate(invalid="ignore", divide="ignore"):
+    ends = np.stack([mean - half, mean + half], axis=-1)                         # (k, pieces, 2)
+    if rest.shape[-1]:
+        distance = np.abs(ends[..., None] - rest[:, None, None, :]).min(axis=(-2, -1))
+    else:
+        distance = np.full(ends.shape[:2], np.inf)
+    eta = distance - (high - low) * slope_norm[:, None] - high * speed_norm - residual[:, None] - scale
+    size = residual[:, None] + high * coupling[:, None]
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         bound = np.where(eta > 0, 2 * size * size / (eta + np.sqrt(eta * eta + 4 * size * size)), np.inf)
-    return bool(np.all((eta > 0) & (gap > 2 * bound) & (eta > 2 * bound)))
+    return np.all((eta > 0) & (gap > 2 * bound) & (eta > 2 * bound), axis=-1)

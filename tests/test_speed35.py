@@ -204,3 +204,29 @@ def test_rotor_example_first_step_not_halved_and_its_columns_true():
         np.testing.assert_array_equal(getattr(result, name), getattr(halved, name))
     np.testing.assert_array_equal(result.whirl, halved.whirl)
     np.testing.assert_array_equal(np.asarray(result.critical.speeds, float), np.asarray(halved.critical.speeds, float))
+
+
+@settings(max_examples=80, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), speeds=st.integers(2, 4), near=st.sampled_from([0.0, 1e-7, 4e-7, 6e-7, 1e-6, 2e-6]),
+       twice=st.booleans())
+def test_plain_labels_are_the_two_pass_assignment(seed, speeds, near, twice):
+    """``campbell._sweep_labels`` without ties at hand (each sweep root's nearest check root its own,
+    nearer by more than the ties' costs) gives what its two passes of optimal assignments give
+    (``_plain_labels`` switched off), on random roots with copies of sweep roots moved by ``near``
+    (relative), and sometimes one check root twice."""
+    rng = np.random.default_rng(seed)
+    m, c = 6, 4
+    lam = (rng.uniform(-1, 1, (speeds, m)) + 1j * rng.uniform(10, 100, (speeds, m)))
+    values = lam[:, :c] * (1 + near * rng.choice([-1.0, 1.0], (speeds, c)))
+    if twice:
+        lam[:, -1] = lam[:, 0] * (1 + 0.3e-6)
+    order = np.array([rng.permutation(m) for _ in range(speeds)])
+    fast = campbell_module._sweep_labels(lam, order, values)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(campbell_module, "_plain_labels", lambda *args: None)
+        slow = campbell_module._sweep_labels(lam, order, values)
+    assert len(fast) == len(slow)
+    for a, b in zip(fast, slow):
+        assert (a is None) == (b is None)
+        if a is not None:
+            np.testing.assert_array_equal(a, b)

@@ -1151,12 +1151,40 @@ def _sweep_labels(lam, order, values):
     count = len(values)
     label_of = np.empty_like(order)
     label_of[np.arange(count)[:, None], order] = np.arange(order.shape[1])[None, :]   # check root -> label
+    plain = _plain_labels(lam, values, label_of)
+    if plain is not None:
+        return plain
     labels = [_labelled(lam[s], values[s], label_of[s], None) for s in range(count)]
     again = []
     for s in range(count):                               # ties settled by the first pass's neighbours
         near = [labels[t] for t in (s - 1, s + 1) if 0 <= t < count and labels[t] is not None]
         again.append(_labelled(lam[s], values[s], label_of[s], near))
     return again
+
+
+def _plain_labels(lam, values, label_of):
+    """:func:`_sweep_labels` where no root is near a tie at any speed of the run: each sweep root's
+    nearest check root (relative distance) is another one than every other sweep root's, and nearer
+    by more than the largest tie cost (half :data:`_SAME_VALUE`) than its next nearest. Then the
+    optimal assignment of both passes, whatever the ties' costs, gives each sweep root its nearest
+    root; None where some speed is not so plain (both passes run)."""
+    if not np.all(np.isfinite(values)):
+        return None
+    with np.errstate(invalid="ignore"):
+        gap = np.abs(values[:, :, None] - lam[:, None, :]) / np.abs(values)[:, :, None]     # (S, c, m)
+    gap = np.minimum(np.where(np.isfinite(gap), gap, 1.0), 1.0)
+    if gap.shape[-1] < 2:
+        return None
+    nearest = np.argmin(gap, axis=-1)                                                       # (S, c)
+    two = np.partition(gap, 1, axis=-1)[..., :2]
+    if np.any(two[..., 1] - two[..., 0] <= 0.5 * _SAME_VALUE):
+        return None
+    ranked = np.sort(nearest, axis=-1)
+    if np.any(ranked[:, 1:] == ranked[:, :-1]):
+        return None
+    found = two[..., 0] <= _SAME_VALUE
+    return [np.take_along_axis(label_of[s], nearest[s], axis=-1) if found[s].all() else None
+            for s in range(len(values))]
 
 
 def _labelled(lam, values, label_of, near):

@@ -47,7 +47,9 @@ each repeat also times ``modes=12`` with that route switched off (``eigvals`` of
 matrices, the route before it): a baseline from the same run, printed under the rotor's row as
 its time per speed, ROSS / it, and it / the lowest 12 (min/median/max). The same calls' CPU times (``time.process_time``: every thread of
 the process, so rotordyn_modal's second thread counts against it) give a second ratio, ROSS / the
-lowest 12, which other processes' load sways less than the wall times. Without flexible rotors in rotordyn_modal (a checkout
+lowest 12, which other processes' load sways less than the wall times; each timed call follows an
+untimed pause of ``_SETTLE_SECONDS``, so that the threads of the call before it, spinning a while
+on a free core, are not charged to it. Without flexible rotors in rotordyn_modal (a checkout
 before them) the script says so and keeps the rigid comparison.
 """
 
@@ -522,13 +524,16 @@ def campbell_times(model, path, grid, repeat):
     for r in range(repeat):
         with _quiet():
             rotor = rs.Rotor.load(path)
+            time.sleep(_SETTLE_SECONDS)
             start, busy = time.perf_counter(), time.process_time()
             rotor.run_campbell(grid, frequencies=CAMPBELL_MODES)
             times[0, r], cpu[0, r] = time.perf_counter() - start, time.process_time() - busy
+        time.sleep(_SETTLE_SECONDS)
         start, busy = time.perf_counter(), time.process_time()
         every = rdm.campbell(model, grid, **keywords)
         times[1, r], cpu[1, r] = time.perf_counter() - start, time.process_time() - busy
         if lowest is not None:
+            time.sleep(_SETTLE_SECONDS)
             start, busy = time.perf_counter(), time.process_time()
             low = rdm.campbell(model, grid, **lowest)
             times[2, r], cpu[2, r] = time.perf_counter() - start, time.process_time() - busy
@@ -546,6 +551,12 @@ def campbell_times(model, path, grid, repeat):
     found = np.take_along_axis(low.eigenvalues, np.argsort(low.eigenvalues.imag, axis=1), axis=1)
     return times[0], times[1], times[2], float(np.max(np.abs(found - reference) / np.abs(reference)))
 
+
+#: a pause [s] before each timed call (not timed): the BLAS and numba threads of the call before
+#: spin on a free core for a while after it, and the process's CPU time would charge that to the
+#: next call (rotor_example at load 2: our call's CPU right after ROSS's 29-40 ms, its own thread
+#: 12-14 ms, after a pause of 0.5 s 16-20 ms)
+_SETTLE_SECONDS = 0.5
 
 #: the last campbell_times' baseline times [s] (repeat,), NaN where there is none
 _BASELINE = [np.array([np.nan])]

@@ -1001,9 +1001,36 @@ def _gyroscopic_roots(stack, speeds):
         return None, None
     constant, gyroscopic = hermitian
     n = stack.n_dof
-    omega = _batches._threaded(functools.partial(_hermitian_eigenvalues, constant, gyroscopic), speeds,
-                               item_bytes=64 * n * n)
+    if len(speeds) * 32 * n * n <= _KEPT_REDUCTIONS_BYTES:        # kept for the checks of the links
+        omega, reduced, taus = _batches._threaded(functools.partial(_hermitian_reductions, constant, gyroscopic),
+                                                  speeds, item_bytes=64 * n * n)
+        _kept_reductions(stack).update(
+            (float(speed), (reduced[p], taus[p], omega[p])) for p, speed in enumerate(speeds) if taus[p, 0] == taus[p, 0])
+        for p in np.flatnonzero(np.isnan(omega[:, 0])):   # pragma: no cover (LAPACK does not fail on finite input)
+            omega[p] = np.linalg.eigvalsh(1j * (constant.imag + speeds[p] * gyroscopic.imag))
+    else:
+        omega = _batches._threaded(functools.partial(_hermitian_eigenvalues, constant, gyroscopic), speeds,
+                                   item_bytes=64 * n * n)
     return 1j * omega[:, n:], _near_zero(constant, gyroscopic, speeds, omega)
+
+
+#: the sweep's Hessenberg reductions of the Hermitian route kept on its stack, at most this many
+#: bytes (201 speeds of rotor_example: 5 MB): ``campbell``'s checks of its mode links solve some
+#: sweep speeds again, with eigenvectors (:func:`weighted_lowest_roots`), from the same reductions
+_KEPT_REDUCTIONS_BYTES = 8 * 2**20
+
+
+def _kept_vectors(stack) -> dict:
+    """``{speed: (eigenvalues (N,), eigenvectors (N, count))}`` of the Hermitian route's ``B`` at the
+    speeds :func:`weighted_lowest_roots` solved on ``stack``, kept on it (the latest of a speed's):
+    ``_lowest_pairs.pairs_kept`` starts from them."""
+    return stack.__dict__.setdefault("_lowest_vectors", {})
+
+
+def _kept_reductions(stack) -> dict:
+    """``{speed: (reduction (N, N), tau (N - 1,), eigenvalues (N,))}`` of the Hermitian route's
+    ``B`` at the speeds solved on ``stack`` (:func:`_gyroscopic_roots`), kept on it."""
+    return stack.__dict__.setdefault("_lowest_reductions", {})
 
 
 def _near_zero(constant, gyroscopic, speeds, omega):
@@ -1054,9 +1081,10 @@ def weighted_lowest_roots(stack, speeds, count):
         return None
     constant, gyroscopic = hermitian
     with _batches.one_blas_thread(64 * n * n):
-        omega, vectors = _hermitian_eigenvectors(constant, gyroscopic, speeds, count)
+        omega, vectors = _hermitian_eigenvectors(constant, gyroscopic, speeds, count, _kept_reductions(stack))
     if vectors is None:
         return None
+    _kept_vectors(stack).update((float(speed), (omega[p], vectors[p])) for p, speed in enumerate(speeds))
     if _near_zero(constant, gyroscopic, speeds, omega).any() or _close_upper(omega[:, n:], count).any():
         return None
     return 1j * omega[:, n:n + count], unit_rows(np.swapaxes(vectors[:, n:], 1, 2))
@@ -1079,37 +1107,71 @@ def _close_upper(upper, count):
     return ~(upper[:, 0] > 0) | (nearest <= _CLOSE * upper[:, :count]).any(axis=1)
 
 
-def _hermitian_eigenvectors(constant, gyroscopic, speeds, count):
+def _hermitian_eigenvectors(constant, gyroscopic, speeds, count, kept=None):
     """:func:`_hermitian_eigenvalues` (S, 2 n), the same bits, and the eigenvectors (S, 2 n, count)
     of ``B`` of the ``count`` lowest nonnegative ones (``n`` to ``n + count - 1``) as
     :func:`weighted_lowest_roots` takes them; ``(eigenvalues, None)`` where LAPACK's inverse
-    iteration does not converge or the tridiagonal splits (a zero off-diagonal)."""
-    matrices = np.multiply(speeds[:, None, None], gyroscopic.imag)
-    matrices += constant.imag
-    size = matrices.shape[1]
+    iteration does not converge or the tridiagonal splits (a zero off-diagonal). ``kept``: the
+    reductions of some speeds already made (:func:`_kept_reductions`), the same bits."""
+    size = constant.shape[0]
     half = size // 2
-    out = np.empty(matrices.shape[:2])
+    out = np.empty((len(speeds), size))
     vectors = np.empty((len(speeds), size, count), complex)
+    kept = {} if kept is None else kept
+    new = [p for p, speed in enumerate(speeds) if float(speed) not in kept]
+    made = _hermitian_reductions(constant, gyroscopic, speeds[new]) if new else None
     zero = np.zeros(size)
     blocks, split = np.ones(size, np.int32), np.zeros(size, np.int32)
     split[0] = size
     turn = (1j ** -np.arange(size))[:, None]                        # conj(D), D = diag(i^k)
-    for p, matrix in enumerate(matrices):
-        reduced, tau, info = scipy.linalg.lapack.dgehrd(matrix.T, overwrite_a=1)
-        if info != 0:           # pragma: no cover (LAPACK's reduction does not fail on finite input)
-            return out, None
-        off = np.diagonal(reduced, -1).copy()
-        out[p], info = scipy.linalg.lapack.dsterf(zero, off.copy(), overwrite_e=1)
-        if info != 0 or not np.all(off):
+    where = {p: i for i, p in enumerate(new)}
+    for p, speed in enumerate(speeds):
+        if p in where:
+            out[p], reduced, tau = (part[where[p]] for part in made)
+        else:
+            reduced, tau, out[p] = kept[float(speed)]
+        off = np.diagonal(reduced.T, -1)
+        if tau[0] != tau[0] or not np.all(off):       # a failed reduction or eigenvalue solve (NaN), or a split
             return out, None
         z, info = scipy.linalg.lapack.dstein(zero, off, out[p, half:half + count], blocks, split)
         if info != 0:
             return out, None
-        q, info = scipy.linalg.lapack.dorghr(reduced, tau, overwrite_a=1)
+        q, info = scipy.linalg.lapack.dorghr(reduced.T, tau)
         if info != 0:           # pragma: no cover
             return out, None
         vectors[p] = q @ (turn * z)
     return out, vectors
+
+
+def _hermitian_reductions(constant, gyroscopic, speeds):
+    """The orthogonal Hessenberg reductions (``dgehrd``) of ``S = Im(constant + speeds[p]
+    gyroscopic)`` (real skew: ``B = i S``) and the eigenvalues of ``B`` from them (``dsterf``),
+    as :func:`_hermitian_eigenvalues` takes them.
+
+    Returns
+    -------
+    eigenvalues : ndarray, shape (P, N)
+        Ascending (NaN where LAPACK failed).
+    reduced : ndarray, shape (P, N, N)
+        Each speed's reduction of ``S^T``, transposed (``reduced[p].T`` is LAPACK's output).
+    taus : ndarray, shape (P, N - 1)
+        Its reflectors' factors (NaN where LAPACK failed).
+    """
+    matrices = np.multiply(speeds[:, None, None], gyroscopic.imag)
+    matrices += constant.imag
+    out = np.empty(matrices.shape[:2])
+    taus = np.empty((len(speeds), matrices.shape[1] - 1))
+    zero = np.zeros(matrices.shape[1])
+    for p, matrix in enumerate(matrices):
+        # S^T = -S, Fortran-ordered as LAPACK takes it (no copy): its reduction is -T, the same eigenvalues
+        reduced, taus[p], info = scipy.linalg.lapack.dgehrd(matrix.T, overwrite_a=1)
+        if info == 0:
+            out[p], info = scipy.linalg.lapack.dsterf(zero, np.diagonal(reduced, -1).copy(), overwrite_e=1)
+        if not np.shares_memory(reduced, matrix):      # pragma: no cover (f2py wrote a copy)
+            matrix[...] = reduced.T
+        if info != 0:           # pragma: no cover (LAPACK's reduction and root-free QR do not fail on finite input)
+            out[p], taus[p] = np.nan, np.nan
+    return out, matrices, taus
 
 
 def _hermitian_form(stack):
@@ -1164,17 +1226,9 @@ def _hermitian_eigenvalues(constant, gyroscopic, speeds):
     diagonal and off-diagonals ``e``, whose eigenvalues ``dsterf`` gives. Within ``eps |B|`` of
     ``B``'s, as ``eigvalsh``'s (the reduction is backward stable and ``T`` is taken exactly skew),
     at two thirds of its time (a real reduction, not a complex one: rotor_example, 56 states)."""
-    matrices = np.multiply(speeds[:, None, None], gyroscopic.imag)
-    matrices += constant.imag
-    out = np.empty(matrices.shape[:2])
-    zero = np.zeros(matrices.shape[1])
-    for p, matrix in enumerate(matrices):
-        # S^T = -S, Fortran-ordered as LAPACK takes it (no copy): its reduction is -T, the same eigenvalues
-        reduced, _, info = scipy.linalg.lapack.dgehrd(matrix.T, overwrite_a=1)
-        if info == 0:
-            out[p], info = scipy.linalg.lapack.dsterf(zero, np.diagonal(reduced, -1).copy(), overwrite_e=1)
-        if info != 0:           # pragma: no cover (LAPACK's reduction and root-free QR do not fail on finite input)
-            out[p] = np.linalg.eigvalsh(1j * (constant.imag + speeds[p] * gyroscopic.imag))
+    out = _hermitian_reductions(constant, gyroscopic, speeds)[0]
+    for p in np.flatnonzero(np.isnan(out[:, 0])):   # pragma: no cover (LAPACK does not fail on finite input)
+        out[p] = np.linalg.eigvalsh(1j * (constant.imag + speeds[p] * gyroscopic.imag))
     return out
 
 

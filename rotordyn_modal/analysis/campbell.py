@@ -1151,12 +1151,40 @@ def _sweep_labels(lam, order, values):
     count = len(values)
     label_of = np.empty_like(order)
     label_of[np.arange(count)[:, None], order] = np.arange(order.shape[1])[None, :]   # check root -> label
+    plain = _plain_labels(lam, values, label_of)
+    if plain is not None:
+        return plain
     labels = [_labelled(lam[s], values[s], label_of[s], None) for s in range(count)]
     again = []
     for s in range(count):                               # ties settled by the first pass's neighbours
         near = [labels[t] for t in (s - 1, s + 1) if 0 <= t < count and labels[t] is not None]
         again.append(_labelled(lam[s], values[s], label_of[s], near))
     return again
+
+
+def _plain_labels(lam, values, label_of):
+    """:func:`_sweep_labels` where no root is near a tie at any speed of the run: each sweep root's
+    nearest check root (relative distance) is another one than every other sweep root's, and nearer
+    by more than the largest tie cost (half :data:`_SAME_VALUE`) than its next nearest. Then the
+    optimal assignment of both passes, whatever the ties' costs, gives each sweep root its nearest
+    root; None where some speed is not so plain (both passes run)."""
+    if not np.all(np.isfinite(values)):
+        return None
+    with np.errstate(invalid="ignore"):
+        gap = np.abs(values[:, :, None] - lam[:, None, :]) / np.abs(values)[:, :, None]     # (S, c, m)
+    gap = np.minimum(np.where(np.isfinite(gap), gap, 1.0), 1.0)
+    if gap.shape[-1] < 2:
+        return None
+    nearest = np.argmin(gap, axis=-1)                                                       # (S, c)
+    two = np.partition(gap, 1, axis=-1)[..., :2]
+    if np.any(two[..., 1] - two[..., 0] <= 0.5 * _SAME_VALUE):
+        return None
+    ranked = np.sort(nearest, axis=-1)
+    if np.any(ranked[:, 1:] == ranked[:, :-1]):
+        return None
+    found = two[..., 0] <= _SAME_VALUE
+    return [np.take_along_axis(label_of[s], nearest[s], axis=-1) if found[s].all() else None
+            for s in range(len(values))]
 
 
 def _labelled(lam, values, label_of, near):
@@ -1225,7 +1253,7 @@ def _halved(stack, speeds, steps, count, more, at, lam, rows, bar, described, me
     memo = {} if memo is None else memo
     halves = dict(grids)                                 # the steps (re)judged at the next level
     for level in range(_CHECK_LEVELS):
-        halves = {k: _grid_tracking(lam, rows, count, where, grids[k], memo)[1] for k in halves}
+        halves = {k: _grid_tracking(lam, rows, count, where, grids[k], memo, stack)[1] for k in halves}
         halves = {k: parts for k, parts in halves.items() if len(parts)}
         if not halves:
             break
@@ -1266,17 +1294,69 @@ def _check_roots(stack, speeds, more):
         return lam, WeightedRows(stack, phi[None], one_thread=True)[0]
 
 
-def _grid_tracking(lam, rows, count, where, grid, memo):
+def _grid_tracking(lam, rows, count, where, grid, memo, stack=None):
     """The check's tracking over one step's ``grid`` (indices into ``lam`` (P, m), ``rows`` (P, m, n),
     ``where`` (P,)): ``(order, unsure parts, untold)`` as :func:`_unsure_parts` and
     :func:`_unsure_labels` give them, kept in ``memo`` by the grid's indices (the same indices are
-    the same roots within one check: its arrays only grow)."""
+    the same roots within one check: its arrays only grow). With ``stack``, a part whose unsure
+    labels are each one of two neighbouring roots shown never to meet over it (nor another root)
+    and tracked each to its own rank is sure (:func:`_pairs_settled`)."""
     key = tuple(int(i) for i in grid)
     if key not in memo:
         order = track_modes_many(lam[grid][None], rows[grid][None], where[grid])[0]
         unsure, untold = _unsure_labels(lam[grid], rows[grid], count, order)
+        if stack is not None and unsure.any():
+            unsure = _pairs_settled(stack, lam[grid], where[grid], order, unsure)
         memo[key] = order, [int(p) for p in np.flatnonzero(unsure.any(axis=1))], untold
     return memo[key]
+
+
+def _pairs_settled(stack, lam, where, order, unsure):
+    """``unsure`` (P - 1, m) with the labels cleared whose pairing over a part the roots' values
+    settle: on the Hermitian route of an undamped gyroscopic model, two neighbouring roots that
+    :func:`._lowest_pairs.pairs_kept` shows distinct, and apart from every other, at every speed of
+    the part keep their ranks over it; a label that is one of them, and whose tracked root (as its
+    partner's) has the same rank at both ends, is paired as the roots are. ``lam`` (P, m) the
+    check's roots at its speeds ``where`` (P,) [rad/s] over one step, ``order`` (P, m) their tracking.
+
+    Parameters
+    ----------
+    stack : Stack
+    lam : ndarray, shape (P, m), complex [1/s]
+    where : ndarray, shape (P,) [rad/s]
+    order : ndarray of int, shape (P, m)
+    unsure : ndarray of bool, shape (P - 1, m)
+
+    Returns
+    -------
+    ndarray of bool, shape (P - 1, m)
+    """
+    from ._lowest_pairs import pairs_kept
+
+    unsure = unsure.copy()
+    frequency = np.abs(lam.imag)
+    rank = np.argsort(np.argsort(frequency, axis=-1, kind="stable"), axis=-1, kind="stable")    # (P, m) of each root
+    for p in np.flatnonzero(unsure.any(axis=1)):
+        ranks = rank[p, order[p]]                            # each label's rank at the part's ends
+        kept = ranks == rank[p + 1, order[p + 1]]
+        by_rank = np.argsort(ranks)                          # the label of each rank at the first end
+        ascending = frequency[p, order[p, by_rank]]
+        lower = {}
+        for label in np.flatnonzero(unsure[p]):
+            r = int(ranks[label])
+            below = ascending[r] - ascending[r - 1] if r > 0 else np.inf
+            above = ascending[r + 1] - ascending[r] if r + 1 < len(ascending) else np.inf
+            first = r - 1 if below < above else r            # the pair with its nearer neighbour
+            if 0 <= first and first + 1 < len(ascending) and kept[by_rank[first]] and kept[by_rank[first + 1]]:
+                lower[int(label)] = first
+        if not lower:
+            continue
+        firsts = sorted(set(lower.values()))
+        shown = dict(zip(firsts, pairs_kept(stack, float(where[p]), float(where[p + 1]), firsts)))
+        for label, first in lower.items():
+            if shown[first]:
+                unsure[p, label] = False
+    return unsure
 
 
 def _unsure_parts(lam, rows, count, where=None) -> list:

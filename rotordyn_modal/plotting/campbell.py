@@ -8,7 +8,7 @@ from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, cuts, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
                       font_points, lay_out_again_when, operating_band, segment_bounds, set_if_changed, text_size,
-                      _drawn_segments, _overlap, _ROW_SPLIT, _short_orders, touching_groups)
+                      _BELOW, _drawn_segments, _overlap, _ROW_SPLIT, _short_orders, touching_groups)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -63,6 +63,10 @@ _STRADDLE = (0.1, 0.3, 0.5, 0.7, 0.9)
 #: boxes above or below a critical speed's circle, this much of their width left of it (beyond the
 #: circle's centre either way too: a steep order line through the circle leaves one side free)
 _ACROSS = (-0.2, 0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0, 1.2)
+#: where no box of those has a leader crossing no mode's curve, boxes in this many columns (label
+#: widths) each side of the circle (:meth:`_CampbellLabels._wider_box`); where none has either,
+#: the speed goes to the note: a leader across another mode's curve reads as naming that mode
+_WIDE_COLUMNS = 4
 
 
 #: a right-edge label reaching nearer the figure's edge than this [pixels] has the figure laid
@@ -1190,6 +1194,10 @@ class _CampbellLabels:
             box = first_free_box([b for b in above if distance(b) <= _MOST_COST * h / self.to_v], placed, gap,
                                  frame, obstacles=markers, allowed=lambda b: uncrossed(b) and self.curves.free(b, circle),
                                  cost=distance, bound=distance)
+        if box is None and own_nearest:
+            box = self._wider_box(anchor, (w, h), clear_px, set(grid), placed, gap, frame, markers, uncrossed)
+            if box is None:
+                return None, None
         if box is None:
             box = first_free_box(grid, placed, gap, frame, obstacles=markers,
                                  allowed=lambda b: leader_clear(b, drawn=False), cost=cost, bound=distance)
@@ -1201,6 +1209,32 @@ class _CampbellLabels:
         start = nearest_in(box, anchor)
         self.leader_lines.append((start, anchor))
         return box, (start, self._short_of(start, anchor, clear_px))
+
+    def _wider_box(self, anchor, size, clear_px, tried, placed, gap, frame, markers, uncrossed):
+        """A critical speed's label box (axes fraction) farther to the side than :meth:`_label_box`'s
+        grid reaches (out to :data:`_WIDE_COLUMNS` label widths), within :data:`_MOST_COST` label
+        heights, nearest first, its leader crossing no curve (``uncrossed``); or None. The boxes
+        ``tried`` already are left out. flexible_pump_on_mounts' '700' (0:3600:121) crossed mode
+        5's line from every box of the grid; a box 2.5 label widths right, between the curves, is clear.
+
+        Parameters
+        ----------
+        anchor : (float, float)
+            The circle's centre [axes fraction].
+        size : (float, float)
+            The label's width and height [axes fraction].
+        clear_px : float
+            The leader's end stops this far from the centre [pixels].
+        """
+        u, v = anchor[0] / self.to_u, anchor[1] / self.to_v
+        w, h = size[0] / self.to_u, size[1] / self.to_v
+        pad = _PAD_POINTS * self.points
+        boxes = np.array(boxes_around(u, v, w, h, pad, clear_px + pad, columns=_WIDE_COLUMNS, split=_ROW_SPLIT))
+        far = np.hypot(np.maximum(np.maximum(boxes[:, 0] - u, u - boxes[:, 2]), 0.0),
+                       np.maximum(np.maximum(boxes[:, 1] - v, _BELOW * (v - boxes[:, 3])), 0.0))
+        scale = np.array([self.to_u, self.to_v] * 2)
+        wide = [b for b in (tuple(b) for b in (boxes[far <= _MOST_COST * h] * scale).tolist()) if b not in tried]
+        return first_free_box(wide, placed, gap, frame, obstacles=markers, allowed=uncrossed)
 
     def _ends_nearest(self, end, markers, clear_px):
         """Whether a leader's drawn ``end`` (axes fraction; ``clear_px`` [pixels] from its own circle's

@@ -1092,7 +1092,7 @@ class _CampbellLabels:
             set_if_changed(text, position=(box[0], box[1] + h / 2), va="center", ha="left", clip_on=True,
                            color=self._colour(self.modes[i], ends[i][2]), visible=True)
 
-    def _label_box(self, anchor, near, gap, placed, markers, clear, own_nearest=False):
+    def _label_box(self, anchor, near, gap, placed, markers, clear, own_nearest=False, wide=False):
         """A label's box (axes fraction) and its leader line ((start, end) or None), or (None, None).
 
         The first of the ``near`` boxes (touching the anchor) that lies inside the axes, clear
@@ -1115,7 +1115,7 @@ class _CampbellLabels:
             return self.curves.free(box, keep) and (not own_nearest or self._nearest_own(box, anchor, markers, leader)) \
                 and not crosses_any(self._leader_array(), [box])
 
-        box = first_free_box(near, placed, gap, frame, obstacles=markers, allowed=free)
+        box = None if wide else first_free_box(near, placed, gap, frame, obstacles=markers, allowed=free)
         if box is not None:
             return box, None
         w, h = near[0][2] - near[0][0], near[0][3] - near[0][1]
@@ -1180,9 +1180,10 @@ class _CampbellLabels:
             across = {b for b in across if distance(b) <= _MOST_COST * h / self.to_v
                       and (b[1] >= v + clear[1] or b[3] <= v - clear[1])}
             reach = sorted(reach + list(across), key=distance)
-        box = first_free_box(reach, placed, gap, frame, obstacles=markers, cost=distance, bound=distance,
-                             allowed=lambda b: (b not in across or self.curves.free(b, circle)) and uncrossed(b))
-        if box is None:
+        box = None if wide else first_free_box(
+            reach, placed, gap, frame, obstacles=markers, cost=distance, bound=distance,
+            allowed=lambda b: (b not in across or self.curves.free(b, circle)) and uncrossed(b))
+        if box is None and not wide:
             # boxes across the marker, their leaders short and steep: compressor_rotor's '12938'
             # (0:15000:151) sits on mode 4 between modes 5 and 3, 6 and 8 pixels away; every
             # slanting leader crossed one of them, a leader straight up crosses mode 5 inside the
@@ -1195,6 +1196,8 @@ class _CampbellLabels:
                                  frame, obstacles=markers, allowed=lambda b: uncrossed(b) and self.curves.free(b, circle),
                                  cost=distance, bound=distance)
         if box is None and own_nearest:
+            if not wide:
+                return None, None
             box = self._wider_box(anchor, (w, h), clear_px, set(grid), placed, gap, frame, markers, uncrossed)
             if box is None:
                 return None, None
@@ -1330,41 +1333,51 @@ class _CampbellLabels:
 
     def _place_critical(self, renderer, placed, markers):
         """Each critical speed's label beside its marker, else nearby with a leader line
-        (:meth:`_label_box`), or none."""
+        (:meth:`_label_box`), else (a second pass) farther to the side (:meth:`_wider_box`), or none."""
         if not self.critical_texts:
             return
-        radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
         gap = (_NUMBER_GAP_POINTS * self.points * self.to_u, 0.5 * self.points * self.to_v)
-        for group in self._critical_groups():
-            j = group[0]
-            text = self.critical_texts[j]
-            for k in group[1:]:
-                set_if_changed(self.critical_texts[k], visible=False)
-                set_if_changed(self.critical_leaders[k], visible=False)
-            set_if_changed(text, text="/".join(dict.fromkeys(self.critical_words[k] for k in group)))
-            u, v = self.to_axes((self.critical[0][j], self.critical[1][j]))
-            own = [self.to_axes((self.critical[0][k], self.critical[1][k])) for k in group]
-            w, h = self._size(text.get_text(), "xx-small", renderer)
-            w, h = w * self.to_u, h * self.to_v
-            corners = [(u + radius_u, v - radius_v - h * 0.5), (u + radius_u, v + radius_v - h * 0.5),
-                       (u - radius_u - w, v - radius_v - h * 0.5), (u - radius_u - w, v + radius_v - h * 0.5),
-                       (u - w / 2, v + radius_v), (u - w / 2, v - radius_v - h),
-                       (u + radius_u, v - h / 2), (u - radius_u - w, v - h / 2)]
-            box = leader = None
-            if 0 <= u <= 1 and 0 <= v <= 1:
-                # every other group's circle is an obstacle, one overlapping its own too (rubber_mounts'
-                # 38.6 and 77.2 rpm, 5 pixels apart: the first's leader ended on the second's circle)
-                mine = {(a - radius_u, b - radius_v, a + radius_u, b + radius_v) for a, b in own}
-                box, leader = self._label_box((u, v), [(a, b, a + w, b + h) for a, b in corners], gap, placed,
-                                              [m for m in markers if m not in mine], (radius_u, radius_v),
-                                              own_nearest=True)
-                if leader is not None and len(own) > 1:
-                    leader = self._group_leader(leader[0], own, (radius_u, radius_v))
-            self._show_leader(self.critical_leaders[j], leader, "k")
-            if box is None:
-                set_if_changed(text, visible=False)
-                continue
-            set_if_changed(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)
+        left = [group for group in self._critical_groups()
+                if not self._place_group(group, renderer, placed, markers, gap, wide=False)]
+        # the places farther to the side only once every circle has had its near places: a
+        # label far out took the room of another's near place (gear_machine's '281' took '561''s)
+        for group in left:
+            self._place_group(group, renderer, placed, markers, gap, wide=True)
+
+    def _place_group(self, group, renderer, placed, markers, gap, wide):
+        """The label of the critical speeds ``group`` (indices; circles that read as one) and its
+        leader (:meth:`_label_box`, ``wide`` passed on), or none; whether it is labelled."""
+        radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
+        j = group[0]
+        text = self.critical_texts[j]
+        for k in group[1:]:
+            set_if_changed(self.critical_texts[k], visible=False)
+            set_if_changed(self.critical_leaders[k], visible=False)
+        set_if_changed(text, text="/".join(dict.fromkeys(self.critical_words[k] for k in group)))
+        u, v = self.to_axes((self.critical[0][j], self.critical[1][j]))
+        own = [self.to_axes((self.critical[0][k], self.critical[1][k])) for k in group]
+        w, h = self._size(text.get_text(), "xx-small", renderer)
+        w, h = w * self.to_u, h * self.to_v
+        corners = [(u + radius_u, v - radius_v - h * 0.5), (u + radius_u, v + radius_v - h * 0.5),
+                   (u - radius_u - w, v - radius_v - h * 0.5), (u - radius_u - w, v + radius_v - h * 0.5),
+                   (u - w / 2, v + radius_v), (u - w / 2, v - radius_v - h),
+                   (u + radius_u, v - h / 2), (u - radius_u - w, v - h / 2)]
+        box = leader = None
+        if 0 <= u <= 1 and 0 <= v <= 1:
+            # every other group's circle is an obstacle, one overlapping its own too (rubber_mounts'
+            # 38.6 and 77.2 rpm, 5 pixels apart: the first's leader ended on the second's circle)
+            mine = {(a - radius_u, b - radius_v, a + radius_u, b + radius_v) for a, b in own}
+            box, leader = self._label_box((u, v), [(a, b, a + w, b + h) for a, b in corners], gap, placed,
+                                          [m for m in markers if m not in mine], (radius_u, radius_v),
+                                          own_nearest=True, wide=wide)
+            if leader is not None and len(own) > 1:
+                leader = self._group_leader(leader[0], own, (radius_u, radius_v))
+        self._show_leader(self.critical_leaders[j], leader, "k")
+        if box is None:
+            set_if_changed(text, visible=False)
+            return False
+        set_if_changed(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)
+        return True
 
     def _group_leader(self, start, own, clear):
         """The leader from ``start`` to a group's circles ``own`` (axes fraction): to the edge of the

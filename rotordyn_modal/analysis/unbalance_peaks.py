@@ -111,15 +111,32 @@ class _LossyForm:
         return out
 
 
+def _state_roots(form, speeds, solve):
+    """Every root of the state matrix at each of ``speeds`` (S,) by ``solve`` (a batched
+    eigenvalue function), all NaN where the matrix is not finite (:class:`_LossyForm`: at speed
+    0): shape (S, 2n), complex [1/s]."""
+    matrices = form.at(np.asarray(speeds, dtype=float))
+    finite = np.all(np.isfinite(matrices), axis=(1, 2))
+    values = np.full(matrices.shape[:2], np.nan + 0j)
+    if finite.any():
+        values[finite] = solve(matrices[finite] if not finite.all() else matrices)
+    return values
+
+
+def _sign_changes(g, x):
+    """``(k, m)``: the steps ``x[k] .. x[k + 1]`` (increasing speeds, shape (S,)) over which column
+    ``m`` of ``g`` (S, m), a root's frequency less the source's line (NaN or inf past a speed's
+    last root), changes sign, where both speeds have as many roots and lie on one side of 0."""
+    count = np.sum(np.isfinite(g), axis=1)
+    same = (count[:-1] == count[1:]) & (np.sign(x[:-1]) * np.sign(x[1:]) >= 0)
+    return np.nonzero(same[:, None] & np.isfinite(g[:-1]) & (np.sign(g[:-1]) * np.sign(g[1:]) < 0))
+
+
 def _oscillating_roots(form, speeds):
     """The roots with ``Im > 0`` and ``-Re > _LEAST_DAMPING |lam|`` of the state matrix at each of
     ``speeds`` (S,), sorted by frequency, NaN after the last (all NaN where the matrix is not
     finite): shape (S, m), complex [1/s]."""
-    matrices = form.at(np.asarray(speeds, dtype=float))
-    finite = np.all(np.isfinite(matrices), axis=(1, 2))          # (:class:`_LossyForm`: none at speed 0)
-    values = np.full(matrices.shape[:2], np.nan + 0j)
-    if finite.any():
-        values[finite] = eigenvalues_of(matrices[finite] if not finite.all() else matrices)
+    values = _state_roots(form, speeds, eigenvalues_of)
     keep = (values.imag > 0) & (values.real < -_LEAST_DAMPING * np.abs(values))
     key = np.where(keep, values.imag, np.inf)
     order = np.argsort(key, axis=1)
@@ -135,9 +152,7 @@ def _source_criticals(form, x, roots, ratio):
     if ratio == 0 or not roots.shape[1]:
         return np.zeros(0), np.zeros(0)
     g = roots.imag / (2 * np.pi) - ratio * np.abs(x)[:, None] / (2 * np.pi)      # (S, m) [Hz]
-    count = np.sum(np.isfinite(g), axis=1)
-    same = (count[:-1] == count[1:]) & (np.sign(x[:-1]) * np.sign(x[1:]) >= 0)
-    k, m = np.nonzero(same[:, None] & (np.sign(g[:-1]) * np.sign(g[1:]) < 0))
+    k, m = _sign_changes(g, x)
     if not k.size:
         return np.zeros(0), np.zeros(0)
     lo, hi, g_lo = x[k].copy(), x[k + 1].copy(), g[k, m].copy()
@@ -235,16 +250,11 @@ class _Crossings:
             return None
         x = np.unique(np.asarray(self.speeds, dtype=float))
         form = self.form(r)
-        matrices = form.at(x)
-        finite = np.all(np.isfinite(matrices), axis=(1, 2))
-        values = np.full(matrices.shape[:2], np.nan + 0j)
-        values[finite] = np.linalg.eigvals(matrices[finite])
+        values = _state_roots(form, x, np.linalg.eigvals)
         keep = (values.imag > 0) & (np.abs(values.real) <= _LEAST_DAMPING * np.abs(values))
         frequency = np.sort(np.where(keep, values.imag, np.inf), axis=1)       # (S, 2n), inf after the last
         g = frequency - r * np.abs(x)[:, None]
-        count = keep.sum(axis=1)
-        same = (count[:-1] == count[1:]) & (np.sign(x[:-1]) * np.sign(x[1:]) >= 0)
-        k, m = np.nonzero(same[:, None] & np.isfinite(g[:-1]) & (np.sign(g[:-1]) * np.sign(g[1:]) < 0))
+        k, m = _sign_changes(g, x)
         out = []
         for k_, m_ in zip(k, m):
             lo, hi, g_lo, g_hi = x[k_], x[k_ + 1], g[k_, m_], g[k_ + 1, m_]

@@ -261,9 +261,7 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
         _shorter_leaders(ax, tried, [label[:2] for label in labels], _members(labels, first, count, tried))
         through = _crossing_leaders(ax, tried, _members(labels, first, count, tried), circles)
         after = _leader_lengths(ax, tried)
-        named = {part: length for label, length in before.items() for part in _words(label)}
-        fair = all(length <= max(named.get(part, 0.0) for part in _words(label)) + 0.5
-                   for label, length in after.items() if label != shared)
+        fair = _no_leader_longer(before, after, shared)
         # on two lines only where that ends the misreading: the label within _LONG_LEADER of its
         # circles and nearer them than any other (a two-line join 30 points away, kept for a
         # point's gain, took the place that let '6956' join '8029/8514' on the fan's 1e5 .. 1e10 map)
@@ -374,9 +372,7 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
     _shorter_leaders(ax, paired, [label[:2] for label in labels], _members(labels, first, count, paired))
     through = _crossing_leaders(ax, paired, _members(labels, first, count, paired), circles)
     after = _leader_lengths(ax, paired)
-    named = {part: length for label, length in before.items() for part in _words(label)}
-    fair = all(length <= max(named.get(part, 0.0) for part in _words(label)) + 0.5
-               for label, length in after.items())
+    fair = _no_leader_longer(before, after)
     if max(after.values(), default=0.0) < longest and fair and through[0] <= crossing[0] and sum(through) <= sum(crossing):
         for t in drawn:
             t.remove()
@@ -404,6 +400,15 @@ def _shared_text(labels, group, broken=False) -> str:
     if not broken or len(words) < 2:
         return "/".join(words)
     return "/".join(words[:half]) + "/\n" + "/".join(words[half:])
+
+
+def _no_leader_longer(before, after, skip=None) -> bool:
+    """Whether every label of ``after`` (text -> leader length [points]) but ``skip`` has a leader
+    at most half a point longer than the longest ``before`` of the labels naming its speeds:
+    a join or pair may shorten the long leader it is for, not lengthen another's."""
+    named = {part: length for label, length in before.items() for part in _words(label)}
+    return all(length <= max(named.get(part, 0.0) for part in _words(label)) + 0.5
+               for label, length in after.items() if label != skip)
 
 
 def _words(text) -> list:

@@ -303,7 +303,7 @@ def _check_element_keys(source: str, elements: dict) -> None:
     ``odl``, ``kyyy`` for ``kyy``: read, the element would take ROSS's default or be refused as
     missing the key); say in one warning line which other keys of shaft, disk and material
     tables are not read (bearing tables hold what ROSS's bearing subclasses save)."""
-    from ..model._table import close_key
+    from ..model._table import close_key, did_you_mean
 
     unread = []
     for cls, tables in elements.items():
@@ -321,7 +321,7 @@ def _check_element_keys(source: str, elements: dict) -> None:
                     meant = same[0] if same else close_key(name, absent)
                     if meant is not None:
                         raise ModelError(source, f"{where} {shown_text(str(name))}", keys[name],
-                                         f"one of the keys ROSS saves in a {cls} (unknown key; did you mean {meant!r}?)")
+                                         f"one of the keys ROSS saves in a {cls}{did_you_mean(meant)}")
                     if cls not in BEARING_CLASSES:
                         unread.append(f"{where} {shown_text(str(name))}")
     if unread:
@@ -352,7 +352,7 @@ def _warn_version(source: str, version) -> None:
 
 def _check_parameters(source: str, data: dict) -> None:
     """Refuse the rotor-level damping ROSS adds to the matrices (not modelled here)."""
-    from ..model._table import close_key
+    from ..model._table import close_key, did_you_mean
 
     parameters = data.get("parameters", {})
     if not isinstance(parameters, dict):
@@ -362,7 +362,7 @@ def _check_parameters(source: str, data: dict) -> None:
                                                                          if k not in parameters])
         if meant is not None:
             raise ModelError(source, f"[parameters] {shown_text(str(name))}", parameters[name],
-                             f"one of the keys ROSS saves in [parameters] (unknown key; did you mean {meant!r}?)")
+                             "one of the keys ROSS saves in [parameters]" + did_you_mean(meant))
     for key in ("alpha", "beta", "default_damping_ratio"):
         value = parameters.get(key, 0.0)
         if _number(source, f"[parameters] {key}", value) != 0.0:

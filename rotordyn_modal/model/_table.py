@@ -9,7 +9,7 @@ import numpy as np
 from .components import is_finite_number
 from ..errors import ModelError
 
-__all__ = ["Table", "unknown_key", "close_key", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
+__all__ = ["Table", "unknown_key", "close_key", "did_you_mean", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
            "visible", "visible_names", "semidefinite_problem", "plain", "line_break_problem"]
 
 #: largest magnitude of a number in a model description (SI units): no machine needs more, and
@@ -140,8 +140,12 @@ def unknown_key(key, allowed) -> str:
     """The end of an unknown key's message: ``" (unknown key)"``, with the allowed key it is
     probably a typo of (``stifness`` -> ``" (unknown key; did you mean 'stiffness'?)"``,
     :func:`close_key`)."""
-    close = close_key(key, allowed)
-    return f" (unknown key; did you mean {close!r}?)" if close is not None else " (unknown key)"
+    return did_you_mean(close_key(key, allowed))
+
+
+def did_you_mean(meant) -> str:
+    """The end of an unknown key's message naming the key ``meant`` (None: not one)."""
+    return f" (unknown key; did you mean {meant!r}?)" if meant is not None else " (unknown key)"
 
 
 def non_number(value, deepest: int = 3) -> str | None:

@@ -23,7 +23,7 @@ from .assembly import Matrices, bearing_motion, body_inertias, constant_matrices
     sensor_rows, sparse_constant_matrices, weight_force
 from .elements.bearings import evaluate
 from .elements._bearing_validation import LONG_JOURNAL
-from .model._table import visible
+from .model._table import and_others, visible
 from .errors import InputError, ModelError
 from .model.dofs import frame_block
 from .model.geometry import shift_matrix
@@ -605,7 +605,7 @@ def _far_point_lines(model) -> list[str]:
         if not distance > FAR_POINT * radius:
             continue
         count = sum(1 for d, *_ in far if d > FAR_POINT * radius)
-        others = f" (and {count - 1} other point{'s' if count > 2 else ''})" if count > 1 else ""
+        others = and_others(count, "point")
         shown = "[" + ", ".join(f"{float(v):g}" for v in point) + "]"
         lines.append(f"{model.source}: [{table}.{visible(name)}] position = {shown}{others}: {distance:.3g} m from "
                      f"{body} centre of mass, {distance / radius:.3g} times its largest radius of gyration sqrt(I/m) = "

@@ -9,7 +9,7 @@ import numpy as np
 from .components import is_finite_number
 from ..errors import ModelError
 
-__all__ = ["Table", "unknown_key", "close_key", "did_you_mean", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
+__all__ = ["Table", "unknown_key", "close_key", "did_you_mean", "and_others", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
            "visible", "visible_names", "semidefinite_problem", "plain", "line_break_problem"]
 
 #: largest magnitude of a number in a model description (SI units): no machine needs more, and
@@ -141,6 +141,12 @@ def unknown_key(key, allowed) -> str:
     probably a typo of (``stifness`` -> ``" (unknown key; did you mean 'stiffness'?)"``,
     :func:`close_key`)."""
     return did_you_mean(close_key(key, allowed))
+
+
+def and_others(count: int, noun: str) -> str:
+    """A warning's note of the ``count - 1`` others beside the one it names (``count`` found in
+    all): ``" (and 2 other disks)"``, ``" (and 1 other point)"``, ``""`` for one."""
+    return f" (and {count - 1} other {noun}{'s' if count > 2 else ''})" if count > 1 else ""
 
 
 def did_you_mean(meant) -> str:

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..elements.shaft import Material, material_problem
-from ._table import Table, visible, visible_names
+from ._table import Table, and_others, visible, visible_names
 from .geometry import shift_matrices, transverse_axes
 
 __all__ = ["Material", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
@@ -663,7 +663,7 @@ def _heavy_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     lines = []
     if found:
         disk, gyration, radius = found[0]
-        others = f" (and {len(found) - 1} other disk{'s' if len(found) > 2 else ''})" if len(found) > 1 else ""
+        others = and_others(len(found), "disk")
         lines.append(f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] mass = {disk.mass:g}{others}: its "
                      f"polar radius of gyration sqrt(polar_inertia / mass) = {gyration:.3g} m is {gyration / radius:.2g} of "
                      f"the shaft's radius {radius:.3g} m there (a disk around the shaft has at least that radius): a mass "
@@ -671,7 +671,7 @@ def _heavy_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     wide = [d for d in shaft.disks if d.polar_inertia > d.mass * (PLAUSIBLE_SHAFT_DIAMETER / 2) ** 2]
     if wide:
         disk = wide[0]
-        others = f" (and {len(wide) - 1} other disk{'s' if len(wide) > 2 else ''})" if len(wide) > 1 else ""
+        others = and_others(len(wide), "disk")
         lines.append(f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] polar_inertia = "
                      f"{disk.polar_inertia:g}{others}: a polar radius of gyration sqrt(polar_inertia / mass) = "
                      f"{math.sqrt(disk.polar_inertia / disk.mass):.3g} m, over {PLAUSIBLE_SHAFT_DIAMETER / 2:g} m (no "
@@ -689,8 +689,7 @@ def _length_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
         return []
     i = max(slender or range(len(shaft.sections)), key=lambda k: shaft.sections[k].length)
     section = shaft.sections[i]
-    count = len(shaft.sections)
-    others = f" (and {count - 1} other section{'s' if count > 2 else ''})" if count > 1 else ""
+    others = and_others(len(shaft.sections), "section")
     why = (f"a shaft {total:.4g} m long, over {PLAUSIBLE_SHAFT_LENGTH:g} m (turbine-generator trains, the longest "
            "rotors, run 50 to 70 m)" if total > PLAUSIBLE_SHAFT_LENGTH else
            f"{section.length / max(section.outer):.3g} times its outer diameter {max(section.outer):g} m, over "

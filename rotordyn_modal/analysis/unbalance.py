@@ -631,7 +631,7 @@ def _crossing(x, y, k, level, step):
 
 def unbalance_response(model, speeds, outputs=None, quantity: str = "displacement",
                        progress: bool = False, amplitude: str = "peak", resonances: bool = True,
-                       _criticals=None, _label="unbalance") -> UnbalanceResult:
+                       _criticals=None, _label="unbalance", _roots=None) -> UnbalanceResult:
     """Steady response to the model's ``[[unbalances]]`` over a speed sweep.
 
     Parameters
@@ -673,7 +673,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         _rename(bar, f"{_label}: direct solves at {len(speeds):,} speeds ({model.dofs.n:,} coordinates)")
         solved = _sensor_response(model, speeds, outputs, quantity)
         _rename(bar, f"{_label}: forces and resonances")
-        fields = _result_fields(model, speeds, outputs, quantity, solved, resonances, _criticals, form)
+        fields = _result_fields(model, speeds, outputs, quantity, solved, resonances, _criticals, form, _roots)
     sources, w, response, _ = solved
     return UnbalanceResult(speeds=speeds, sources=tuple(sources), frequencies_hz=w / (2 * np.pi),
                            response=response, quantity=quantity, amplitude_kind=amplitude, **fields)
@@ -685,11 +685,12 @@ def _rename(bar, description):
         bar.set_description(description, refresh=False)
 
 
-def _result_fields(model, speeds, outputs, quantity, solved, resonances, criticals, form=None) -> dict:
+def _result_fields(model, speeds, outputs, quantity, solved, resonances, criticals, form=None, roots=None) -> dict:
     """The fields of :class:`UnbalanceResult` beside the speeds, sources, frequencies, response,
     quantity and amplitude convention: the forces, orbits' planes, clearances and resonances
     (``solved``: :func:`_sensor_response`'s; ``resonances``, ``criticals``: see
-    :func:`unbalance_response`; ``form``: the model's state form, if made already)."""
+    :func:`unbalance_response`; ``form``: the model's state form, if made already; ``roots``: the
+    state roots at the sweep's speeds, if found already, :func:`_unresolved_fields`)."""
     sources, _, response, (rotor_forces, speed_all, omega, q, shifts, motions) = solved
     n_src, n = len(sources), len(speeds)
     names = tuple(s.name for s in model.sensors) if outputs is None else \
@@ -710,7 +711,7 @@ def _result_fields(model, speeds, outputs, quantity, solved, resonances, critica
         rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
         clearance_names=tuple(c.name for c in model.clearances),
         clearance_planes=_clearance_planes(model, q, motions, n_src, n),
-        **_unresolved_fields(model, speeds, outputs, quantity, ratios, response, resonances, criticals, form),
+        **_unresolved_fields(model, speeds, outputs, quantity, ratios, response, resonances, criticals, form, roots),
     )
 
 
@@ -733,7 +734,8 @@ def _sensor_response(model, speeds, outputs, quantity, solved=None):
     return sources, w, response, (rotor_forces, speed_all, omega, q, shifts, motions)
 
 
-def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=True, found=None, form=None) -> dict:
+def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=True, found=None, form=None,
+                       roots=None) -> dict:
     """``resonance_speeds``, ``resonance_bands`` (n_src, P) [rad/s] and ``resonance_response``
     (n_outputs, n_src, P) of :class:`UnbalanceResult`: each source's damped critical speeds
     that no swept speed resolves (:func:`.unbalance_peaks.unresolved_criticals`) and the
@@ -743,17 +745,21 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
     ``swept``: the response at ``speeds`` (n_outputs, n_src, N); ``found``: those speeds already
     found (:func:`api_unbalance_response`'s cases, one machine); ``form``: the model's state form,
     if made already (whether the peaks are looked for is read from it: where they are not, the
-    form is not made again)."""
+    form is not made again); ``roots``: the state roots at the sweep's speeds found with ``found``
+    (:func:`.unbalance_peaks.unresolved_criticals`), if any: the AF table's search for undamped
+    crossings (:func:`.unbalance_peaks.undamped_crossings`, every sweep) reads them instead of
+    solving them again."""
     from ..assembly import is_large
     from .unbalance_peaks import _AF_SHARE, cut_maxima, not_looked_for, undamped_crossings, unresolved_criticals
 
     why = not_looked_for(model, speeds, form) if wanted and found is None else ""
+    roots = {} if roots is None else roots
     if wanted and found is None and not why:
-        found = unresolved_criticals(model, speeds, ratios)
+        found = unresolved_criticals(model, speeds, ratios, roots)
     curve = _own_source_curve(model, outputs, quantity) if wanted and not is_large(model) else None
     exact = _exact_peak_fields(curve, speeds, swept, float(model.dofs.n) ** 3,
                                None if found is None else [critical for critical, _ in found],
-                               undamped_crossings(model, ratios, speeds))
+                               undamped_crossings(model, ratios, speeds, roots))
     if not wanted or found is None:
         return dict(dict.fromkeys(_RESONANCE_FIELDS), cut_peak_note=why, **exact)
     n_outputs = swept.shape[0]
@@ -902,14 +908,15 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
     cases = api_unbalance_cases(model, mcs)
     # one machine: its damped critical speeds found once, for each case's rotor
     rotors = [case.unbalances[0].rotor for _, case in cases]
+    roots: dict = {}                  # the state roots at the swept speeds, found once for every case
     with phase(progress, "unbalance: damped critical speeds"):
         found = unresolved_criticals(model, _arguments.speeds(speeds, increasing=False),
-                                     [model.rotor(r).speed_ratio for r in rotors])
+                                     [model.rotor(r).speed_ratio for r in rotors], roots)
     # resonances=True: each case's AF table on its exact response (its damped critical speeds are
     # the machine's, not looked for again where not found: not_looked_for says why)
     results = [unbalance_response(case, speeds, outputs=outputs, quantity=quantity, amplitude=amplitude,
                                   progress=progress, resonances=True,
-                                  _criticals=None if found is None else [found[k]],
+                                  _criticals=None if found is None else [found[k]], _roots=roots,
                                   _label=f"unbalance case {k + 1} of {len(cases)}")
                for k, (_, case) in enumerate(cases)]
     first = results[0]

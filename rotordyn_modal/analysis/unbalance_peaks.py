@@ -36,7 +36,7 @@ _BRACKET_SHARE = 1.0 / 64
 _HALVINGS = 60
 
 
-def unresolved_criticals(model, speeds, ratios):
+def unresolved_criticals(model, speeds, ratios, roots=None):
     """The damped critical speeds of each source that no swept speed resolves.
 
     Parameters
@@ -46,6 +46,10 @@ def unresolved_criticals(model, speeds, ratios):
         The sweep's reference rotor speeds, in any order.
     ratios : sequence of float, length n_src
         Each source's speed ratio ``r_j``.
+    roots : dict, optional
+        Filled with the state matrix's roots found at the sweep's distinct speeds, ``|r_j| -> (x
+        (S,) [rad/s], roots (S, 2n) [1/s])``, so that :func:`undamped_crossings` given it solves
+        none of them again.
 
     Returns
     -------
@@ -68,9 +72,14 @@ def unresolved_criticals(model, speeds, ratios):
     lossy = any(s.loss_factor for s in model.suspensions)
     found = {}
     for r in {abs(float(r)) for r in ratios}:                              # once a ratio
-        each = _LossyForm(form, model, r) if lossy and r else form
-        found[r] = _source_criticals(each, x, _oscillating_roots(each, x), r) if r or not lossy \
-            else (np.zeros(0), np.zeros(0))
+        if r == 0 and lossy:
+            found[r] = (np.zeros(0), np.zeros(0))
+            continue
+        each = _LossyForm(form, model, r) if lossy else form
+        values = _state_roots(each, x, eigenvalues_of)
+        if roots is not None:
+            roots[r] = (x, values)
+        found[r] = _source_criticals(each, x, _oscillating_roots(each, x, values), r)
     return [found[abs(float(r))] for r in ratios]
 
 
@@ -132,11 +141,11 @@ def _sign_changes(g, x):
     return np.nonzero(same[:, None] & np.isfinite(g[:-1]) & (np.sign(g[:-1]) * np.sign(g[1:]) < 0))
 
 
-def _oscillating_roots(form, speeds):
+def _oscillating_roots(form, speeds, values=None):
     """The roots with ``Im > 0`` and ``-Re > _LEAST_DAMPING |lam|`` of the state matrix at each of
     ``speeds`` (S,), sorted by frequency, NaN after the last (all NaN where the matrix is not
-    finite): shape (S, m), complex [1/s]."""
-    values = _state_roots(form, speeds, eigenvalues_of)
+    finite): shape (S, m), complex [1/s]; of ``values`` (S, 2n), every root there, if known."""
+    values = _state_roots(form, speeds, eigenvalues_of) if values is None else values
     keep = (values.imag > 0) & (values.real < -_LEAST_DAMPING * np.abs(values))
     key = np.where(keep, values.imag, np.inf)
     order = np.argsort(key, axis=1)
@@ -185,7 +194,7 @@ def _source_criticals(form, x, roots, ratio):
     return critical[unresolved][order], band[unresolved][order]
 
 
-def undamped_crossings(model, ratios, speeds=None):
+def undamped_crossings(model, ratios, speeds=None, roots=None):
     """Where each source's excitation line meets an undamped root of the state matrix, for
     :func:`exact_peaks`' peaks too narrow for its search (an undamped mode): an
     :class:`_Crossings`, callable as ``crossing(j, start, a, b)`` (the crossing nearest ``start``
@@ -200,20 +209,25 @@ def undamped_crossings(model, ratios, speeds=None):
         Each source's speed ratio ``r_j``.
     speeds : ndarray, shape (N,) [rad/s], optional
         The sweep (without it, ``every`` finds none).
+    roots : dict, optional
+        The state matrix's roots at the sweep's distinct speeds where known, filled by
+        :func:`unresolved_criticals` (``|r_j| -> (x, roots)``): ``every`` then solves only near
+        the crossings it finds.
 
     Returns
     -------
     _Crossings
     """
-    return _Crossings(model, ratios, speeds)
+    return _Crossings(model, ratios, speeds, roots)
 
 
 class _Crossings:
     """See :func:`undamped_crossings`."""
 
-    def __init__(self, model, ratios, speeds=None):
+    def __init__(self, model, ratios, speeds=None, roots=None):
         self.model, self.ratios, self.speeds = model, ratios, speeds
         self.forms, self.found, self.everywhere = {}, {}, {}
+        self.roots = {} if roots is None else roots
 
     def form(self, r):
         """The state form of a source of speed ratio ``|r|`` (hysteretic mounts: :class:`_LossyForm`)."""
@@ -250,7 +264,9 @@ class _Crossings:
             return None
         x = np.unique(np.asarray(self.speeds, dtype=float))
         form = self.form(r)
-        values = _state_roots(form, x, np.linalg.eigvals)
+        known = self.roots.get(r)
+        values = known[1] if known is not None and np.array_equal(known[0], x) else \
+            _state_roots(form, x, np.linalg.eigvals)
         keep = (values.imag > 0) & (np.abs(values.real) <= _LEAST_DAMPING * np.abs(values))
         frequency = np.sort(np.where(keep, values.imag, np.inf), axis=1)       # (S, 2n), inf after the last
         g = frequency - r * np.abs(x)[:, None]
@@ -454,15 +470,28 @@ def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=Non
     crossing : callable, optional
         ``crossing(j, start, a, b)`` of :func:`undamped_crossings`: where source ``j``'s line
         meets a root near ``start`` within ``[a, b]`` [rad/s] (without it, an unbounded peak
-        is taken at the search's maximum).
+        is taken at the search's maximum). With its ``every(j)``, every other crossing of an
+        undamped root within the sweep that is a pole of a curve is added, unbounded, whether or
+        not a swept peak is near it (:func:`_unbounded_elsewhere`): a damped machine's undamped
+        mode whose pole the swept line shows no peak at, or a sweep without swept peaks.
     """
     c, sides = _swept_peaks(np.asarray(speeds, dtype=float), np.asarray(amplitude))
     if c["o"].size * _AF_CALLS * solve_work > _WORK:
         return None
     n_out, n_src = np.shape(amplitude)[:2]
+    c, half_power = _bounded_or_not(curve, c, sides, criticals, crossing) if c["o"].size else _no_peaks()
+    if hasattr(crossing, "every"):
+        c, half_power = _unbounded_elsewhere(curve, c, half_power, crossing, speeds, (n_out, n_src))
     if not c["o"].size:
         empty = np.full((n_out, n_src, 0), np.nan)
         return empty, empty.copy(), empty + 0j, np.full((n_out, n_src, 0, 2), np.nan)
+    return _packed(c, half_power, n_out, n_src)
+
+
+def _bounded_or_not(curve, c, sides, criticals, crossing):
+    """The swept peaks ``c`` of :func:`exact_peaks` refined on the exact response, with their
+    half-power points (C, 2) [rad/s]; a peak narrower than the search resolves placed where the
+    response is unbounded (:func:`_unbounded`)."""
     c = _refined(curve, c, _AF_PEAK_SHARE)
     level = np.abs(c["value"]) / np.sqrt(2.0)
     inside, outside = _half_power_brackets(curve, c, sides, level, criticals)
@@ -477,9 +506,14 @@ def exact_peaks(curve, speeds, amplitude, solve_work: float = 0.0, criticals=Non
     narrow = np.abs(half_power[:, 1] - half_power[:, 0]) < _UNBOUNDED_SHARE * c["span"]
     if narrow.any():
         c, half_power = _unbounded(c, half_power, narrow, crossing)
-        if np.isinf(c["value"]).any() and hasattr(crossing, "every"):
-            c, half_power = _unbounded_elsewhere(curve, c, half_power, crossing, speeds, (n_out, n_src))
-    return _packed(c, half_power, n_out, n_src)
+    return c, half_power
+
+
+def _no_peaks():
+    """:func:`_bounded_or_not`'s result for a sweep without swept peaks."""
+    c = {name: np.zeros(0, dtype=int) for name in ("o", "j")}
+    c.update(swept=np.zeros(0), at=np.zeros(0), value=np.zeros(0, dtype=complex))
+    return c, np.zeros((0, 2))
 
 
 def _unbounded(c, half_power, narrow, crossing=None):
@@ -508,8 +542,8 @@ _POLE_NEAR, _POLE_FAR, _POLE_GROWTH = 1e-9, 1e-6, 30.0
 
 
 def _unbounded_elsewhere(curve, c, half_power, crossing, speeds, shape):
-    """The peaks ``c`` with their ``half_power`` (C, 2) of :func:`_unbounded` (some unbounded: the
-    model has an undamped mode) and every other pole of each curve within the sweep: each
+    """The peaks ``c`` with their ``half_power`` (C, 2) of :func:`_bounded_or_not` (any, none) and
+    every other pole of each curve within the sweep: each
     crossing of an undamped root with its source's line (``crossing.every(j)``) that excites the
     curve (:data:`_POLE_GROWTH`) and has no unbounded peak of it yet is added, unbounded (its
     response ``inf``, ``N1 = N2`` its speed, its swept speed the nearest), so that two poles

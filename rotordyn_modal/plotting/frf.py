@@ -366,6 +366,9 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
                      **({} if sparse is None else {"marker": ".", "ms": 3, "markevery": sparse}))
         phase.plot(*_broken_at_wraps(result.frequencies_hz, phase_values), color=colour, ls=style, lw=0.9)
         at, peak = result.cut_peaks(o, i)
+        # the line taken up to each resonance it cuts, as the unbalance curves: the diamond
+        # stands on the curve, not above a chord 3.3 times lower (motor_pump's 529 Hz mode)
+        _draw_peak_tops(mag, result.frequencies_hz, np.abs(h), (at, np.abs(peak)), 1.0, abs(factor), colour, style)
         cut += _mark_cut(mag, at, np.abs(peak) * abs(factor), colour)
     if cut:
         _cut_legend(mag, "peak between computed frequencies")
@@ -637,12 +640,25 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
 
 def _mark_unbounded(ax, chosen, top):
     """A dotted line up to ``top`` (the largest value drawn) at the speed of each unbounded peak of
-    ``chosen`` (:func:`_marked_peaks`'; its label, which says so, stands at its top): the swept
+    ``chosen`` (:func:`_marked_peaks`': a :class:`_Peak` whose ``unbounded`` is set from the
+    peaks table's amplitude ``inf``; its label, which says so, stands at its top): the swept
     line's peak stands beside it, at a swept speed."""
     low = ax.get_ylim()[0]
-    for x, y, text, colour, _ in chosen:
-        if _UNBOUNDED_LINE in text.split("\n") and np.isfinite(top) and top > low:
+    for peak in chosen:
+        x, y, _, colour, _ = peak
+        if getattr(peak, "unbounded", False) and np.isfinite(top) and top > low:
             ax.plot([x, x], [low, y], color=colour, ls=":", lw=1.2, label="_unbounded")
+
+
+class _Peak(tuple):
+    """A peak to mark, ``(x, amplitude as drawn, text, colour, source)``, and whether the
+    analysis found it unbounded (``unbounded``: its amplitude ``inf``, an undamped mode at its
+    critical speed), read from the data rather than from the words of its label."""
+
+    def __new__(cls, items, unbounded=False):
+        peak = super().__new__(cls, items)
+        peak.unbounded = bool(unbounded)
+        return peak
 
 
 #: the second line of an unbounded peak's label (an undamped mode's: amplitude inf)
@@ -1020,8 +1036,8 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=
             text += "\n" + _UNBOUNDED_LINE
         if np.isfinite(row.separation_margin_pct):
             text += f"\nSM {row.separation_margin_pct:.0f} % (API {row.required_margin_pct:.0f} %)"
-        chosen.append((row.speed_rpm * rpm_to_unit, top if unbounded else row.amplitude * factor, text, colours[i, j],
-                       source))
+        chosen.append(_Peak((row.speed_rpm * rpm_to_unit, top if unbounded else row.amplitude * factor, text,
+                             colours[i, j], source), unbounded))
     kept, width = [], np.ptp(result.speeds) * rpm_to_unit * 30 / np.pi
     for peak in sorted(chosen, key=lambda c: -c[1]):    # one label per source's peak seen by several sensors
         if not any(peak[4] == k[4] and abs(peak[0] - k[0]) <= _SAME_PEAK * width for k in kept):

@@ -396,34 +396,35 @@ def _label_critical_lines(axes, critical, renderer):
 
     rpm = 30.0 / np.pi
     placed = {id(ax): [ax.get_legend().get_window_extent(renderer)] if ax.get_legend() else [] for ax in axes}
-    curves = {id(ax): CurveMap(ax, renderer) for ax in axes}       # the signal, the tracks, the lines
-    # where critical lines crowd closer than a label's width, a label may lie across the other
-    # critical lines (a second pass), never across the signal or the tracks
+    # a label may lie across other critical lines (where they crowd closer than its width: the
+    # last passes), never across the signal or the tracks
     data = {id(ax): CurveMap(ax, renderer, skip=[line for line in ax.get_lines() if line.get_label() == "_critical"])
             for ax in axes}
-    labels, missing = [], []
+    labels = []
     texts = {k: f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}, "
                 f"{rpm_text(critical.speeds[k] * rpm)} rpm" for k in range(len(critical.speeds))}
-    for k in np.argsort(critical.speeds):
-        label = _first_room(axes, critical.speeds[k] * rpm, texts[k], placed, renderer, curves, across=False)
-        if label is None:
-            missing.append(k)
-        else:
-            labels.append(label)
-    # then the label in two lines (half as long: the line at 2067 rpm of the gear machine's run-up,
-    # between tracks that leave a shorter gap than its label in every panel), clear of the
-    # curves, then of the signal and the tracks
-    for wrap, maps in ((False, data), (True, curves), (True, data)):
+    # each label where no other critical line runs through its text (a line through the text
+    # reads as the one it names: the gear machine's 'mode 2, 1X fan / 1403 rpm' lay on the 1333
+    # rpm line), but for lines that read as one with its own (:data:`_BUNDLE`), in one line, then
+    # in two (half as long: the line at 2067 rpm of the gear machine's run-up, between tracks
+    # that leave a shorter gap than its label in every panel), clear of the signal and the
+    # tracks; last, where critical lines crowd closer than a label's width in every panel,
+    # across the fewest of them
+    missing = list(np.argsort(critical.speeds))
+    passes = [(False, 0), (True, 0), (False, None), (True, None)]
+    for wrap, most in passes:
         still = []
         for k in missing:
             speed = f"{rpm_text(critical.speeds[k] * rpm)} rpm"
             text = texts[k].replace(f", {speed}", f"\n{speed}") if wrap else texts[k]
-            label = _first_room(axes, critical.speeds[k] * rpm, text, placed, renderer, maps, across=maps is data)
+            label = _first_room(axes, critical.speeds[k] * rpm, text, placed, renderer, data, most)
             if label is None:
                 still.append(k)
             else:
                 labels.append(label)
         missing = still
+        if not missing:
+            break
     if missing:
         labels.append(_unlabelled_note(axes, critical, sorted(missing, key=lambda k: critical.speeds[k]),
                                        placed, renderer, data))
@@ -482,9 +483,17 @@ def _note_at(ax, text, style, corner, size, placed):
     return ax.text(frame[0], frame[1], text, transform=ax.transAxes, gid="unlabelled-critical", **style)
 
 
-def _first_room(axes, x, text, placed, renderer, curves, across=False):
+def _first_room(axes, x, text, placed, renderer, curves, across=0):
     """The label of the line at ``x`` [rpm] in the first of ``axes`` with room for it, or None
-    (``across``: it may lie across other critical lines, see :func:`_vertical_label`)."""
+    (``across``: the most other critical lines that may run through its text, see
+    :func:`_vertical_label`; None: the place of all ``axes`` where the fewest do)."""
+    if across is None:
+        found = [(crossed, n, ax, place) for n, ax in enumerate(axes)
+                 for crossed, place in _free_places(ax, x, text, placed[id(ax)], renderer, curves[id(ax)])]
+        if not found:
+            return None
+        _, _, ax, place = min(found, key=lambda item: item[:2])
+        return _vertical_label(ax, x, text, placed[id(ax)], renderer, curves[id(ax)], np.inf, [place])
     for ax in axes:
         label = _vertical_label(ax, x, text, placed[id(ax)], renderer, curves[id(ax)], across)
         if label is not None:
@@ -492,33 +501,88 @@ def _first_room(axes, x, text, placed, renderer, curves, across=False):
     return None
 
 
-def _vertical_label(ax, x, text, placed, renderer, curves=None, across=False):
+#: critical lines closer than this to a label's own line [pt] read as one with it: a label may
+#: lie across them (the gear machine's 1420 rpm line, 2 pt right of the 1403 rpm line, runs
+#: through the gap between the 1403 rpm line and its label's text)
+_BUNDLE = 3.0
+#: critical lines linked by gaps under this [pt] crowd: a label that finds no place clear of
+#: the others' lines may lie across those of its crowd (the speed in its text tells them
+#: apart), never across a line outside it, which would read as the one it names
+_CROWD = 6.0
+#: the places of a critical line's label: (side: ha, offset sign), (height: axes fraction, va, rise [pt])
+_PLACES = list(itertools.product((("left", 1), ("right", -1)),
+                                 ((1.0, "top", -3), (0.0, "bottom", 3), (0.5, "center", 0), (0.35, "center", 0),
+                                  (0.65, "center", 0))))
+
+
+def _vertical_label(ax, x, text, placed, renderer, curves=None, across=0, places=_PLACES):
     """A vertical label just right (else left) of the line at ``x``, at the top of the axes (else
-    at the bottom, else at three heights between), inside the axes, clear of the boxes in ``placed`` (display
-    units, updated) and of every curve of ``curves`` (a CurveMap) but its own line; None where
-    there is no room. A label placed ``across`` other critical lines (where they crowd closer
-    than its width) hides them behind an opaque box: seen through its box they struck its text
-    out (the fan's run-up: 'mode 1, 1X fan, 798 rpm' under the lines at 866 and 880 rpm)."""
+    at the bottom, else at three heights between: ``places``), inside the axes, clear of the boxes in ``placed`` (display
+    units, updated), of every curve of ``curves`` (a CurveMap of the signal and the tracks) and
+    of the other critical lines but ``across`` of them (none: where they crowd closer than its
+    width) and those that read as one with its own (:data:`_BUNDLE`); None where there is no
+    room. A label across other critical lines hides them behind an opaque box: seen through its
+    box they struck its text out (the fan's run-up: 'mode 1, 1X fan, 798 rpm' under the lines at
+    866 and 880 rpm)."""
+    for crossed, place in _free_places(ax, x, text, placed, renderer, curves, places, keep=True):
+        if crossed <= across:
+            label, box, covers = place
+            if covers:
+                label.get_bbox_patch().set_alpha(1.0)
+            placed.append(box)
+            return label
+        place[0].remove()
+    return None
+
+
+def _free_places(ax, x, text, placed, renderer, curves=None, places=_PLACES, keep=False):
+    """``(other critical lines through the label's text, place)`` of each place of ``places``
+    where the label of the line at ``x`` lies inside ``ax``, clear of the boxes ``placed`` and of
+    the curves of ``curves``: the place as in ``places``, or (``keep``) ``(label, its box,
+    whether it covers another critical line)``, the caller removing the labels it does not
+    take (the others removed here)."""
     frame = ax.get_window_extent(renderer)
     pad = 2.0 * ax.figure.dpi / 72.0
     line_x = ax.transData.transform((x, 0.0))[0]
     own = (line_x - 0.5, frame.y0, line_x + 0.5, frame.y1)       # its own line, beside it
-    for (ha, shift), (y, va, rise) in itertools.product((("left", 1), ("right", -1)),
-                                                       ((1.0, "top", -3), (0.0, "bottom", 3), (0.5, "center", 0),
-                                                        (0.35, "center", 0), (0.65, "center", 0))):
+    others, bundled, foreign = _other_lines(ax, x, line_x)
+    for place in places:
+        (ha, shift), (y, va, rise) = place
         label = ax.annotate(text, (x, y), xycoords=("data", "axes fraction"), xytext=(shift * 2, rise),
                             textcoords="offset points", rotation=90, ha=ha, va=va, fontsize="x-small",
                             color="tab:red", bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",
-                                                   "alpha": 1.0 if across else 0.7})
+                                                   "alpha": 0.7})
         box = label.get_window_extent(renderer)
         inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
         clear = curves is None or curves.free((box.x0, box.y0, box.x1, box.y1), keep=own)
-        if inside and clear and not any(box.x0 < b.x1 + pad and b.x0 < box.x1 + pad and box.y0 < b.y1 + pad
-                              and b.y0 < box.y1 + pad for b in placed):
-            placed.append(box)
-            return label
+        if inside and clear and not np.any((foreign > box.x0) & (foreign < box.x1)) and not any(
+                box.x0 < b.x1 + pad and b.x0 < box.x1 + pad and box.y0 < b.y1 + pad and b.y0 < box.y1 + pad
+                for b in placed):
+            crossed = int(np.count_nonzero((others > box.x0) & (others < box.x1)))
+            if keep:
+                yield crossed, (label, box, bool(crossed or np.any((bundled > box.x0) & (bundled < box.x1))))
+                continue
+            yield crossed, place
         label.remove()
-    return None
+
+
+def _other_lines(ax, x, line_x):
+    """The display x of the critical lines of ``ax`` (its lines labelled '_critical') other than
+    the one at ``x`` [rpm] (at ``line_x`` on the display): ``(farther, nearer, foreign)``,
+    farther and nearer than :data:`_BUNDLE` from it, and those of the farther outside its crowd
+    (the lines linked to it by gaps under :data:`_CROWD`), shapes (n,), (m,), (k,)."""
+    xs = np.array([float(np.asarray(line.get_xdata(), float)[0]) for line in ax.get_lines()
+                   if line.get_label() == "_critical" and float(np.asarray(line.get_xdata(), float)[0]) != x])
+    if not len(xs):
+        return xs, xs, xs
+    px = ax.transData.transform(np.column_stack([xs, np.zeros_like(xs)]))[:, 0]
+    points = ax.figure.dpi / 72.0
+    far = np.abs(px - line_x) > _BUNDLE * points
+    every = np.sort(np.append(px, line_x))
+    groups = np.concatenate([[0], np.cumsum(np.diff(every) > _CROWD * points)])
+    own = groups[np.searchsorted(every, line_x)]
+    crowd = (px >= every[groups == own][0]) & (px <= every[groups == own][-1])
+    return px[far], px[~far], px[far & ~crowd]
 
 
 def _rotor_orders(critical, rotor_names):

@@ -57,6 +57,37 @@ def chain_campbell():
     return get
 
 
+@pytest.fixture(scope="session")
+def ucs_figure():
+    """``ucs_figure(example, stiffness, units=None, **options)``: ``(result, figure)``, the
+    undamped critical speed map of ``examples/EXAMPLE.toml`` over ``numpy.geomspace(*stiffness)``
+    [N/m] with ``rdm.ucs_map``'s ``options``, and its ``plot()`` (``plot(units=units)`` where
+    given), mapped and plotted once per worker. The plot (its labels' placement) is most of the
+    time of the tests that measure one map's figure, and some measure the same figure
+    (test_figures33 and test_figures35: the fan with every bearing; test_figure_audit27p and
+    test_figure_audit27r: the fan's bearings by default). The figure comes on a canvas of its
+    own (a figure pyplot closed has none); the tests set its dpi, draw it and measure it, and
+    change nothing else (drawn again, its texts' boxes are the same to the last bit)."""
+    import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    import rotordyn_modal as rdm
+
+    maps, figures = {}, {}
+
+    def get(example, stiffness, units=None, **options):
+        key = (example, tuple(stiffness), repr(sorted(options.items())))
+        if key not in maps:
+            maps[key] = rdm.ucs_map(rdm.load_model(EXAMPLES / f"{example}.toml"), np.geomspace(*stiffness), **options)
+        if (key, units) not in figures:
+            figures[key, units] = maps[key].plot() if units is None else maps[key].plot(units=units)
+        fig = figures[key, units]
+        if not hasattr(fig.canvas, "get_renderer"):
+            FigureCanvasAgg(fig)
+        return maps[key], fig
+    return get
+
+
 @pytest.fixture
 def no_solutions(monkeypatch):
     """Any eigen-solution of a sweep fails the test (a refusal must come before the work), with

@@ -102,7 +102,7 @@ def test_the_gear_machines_critical_speed_413_is_labelled_and_no_leader_crosses_
 
 # -- UCS map: crowded crossings, each labelled, no leader across a mode's curve --------------------
 
-def test_the_fans_crowded_ucs_crossings_are_each_labelled_with_no_leader_across_a_mode():
+def test_the_fans_crowded_ucs_crossings_are_each_labelled_with_no_leader_across_a_mode(ucs_figure):
     """``ucs-map examples/fan_on_bearings.toml --stiffness 1e5:1e9:41 --plot`` (150 dpi): the
     3e6 N/m line meets modes 5, 7 and 8 at 3394, 3644 and 3943 rpm, circles within 12 pixels;
     '3644' took a box above left, its leader across mode 8's line, and '3943' (3e6) one below
@@ -114,9 +114,7 @@ def test_the_fans_crowded_ucs_crossings_are_each_labelled_with_no_leader_across_
     import matplotlib.pyplot as plt
     from label_geometry import curve_segments, glyph_box, segment_crossings
 
-    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
-    result = rdm.ucs_map(model, np.geomspace(1e5, 1e9, 41))
-    fig = result.plot()
+    result, fig = ucs_figure("fan_on_bearings", (1e5, 1e9, 41))     # plotted once with test_figure_audit27r's
     fig.set_dpi(150)
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()

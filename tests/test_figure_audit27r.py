@@ -68,7 +68,7 @@ def _ucs_label_problems(result, fig):
 
 @pytest.mark.parametrize("example, stiffness", [("compressor_on_journals", (1e5, 1e10, 41)),
                                                 ("fan_on_bearings", (1e5, 1e9, 41))])
-def test_ucs_crossing_labels_cross_no_mode_and_no_other_circle(example, stiffness):
+def test_ucs_crossing_labels_cross_no_mode_and_no_other_circle(example, stiffness, ucs_figure):
     """``ucs-map examples/compressor_on_journals.toml --stiffness 1e5:1e10:41 --plot``: '31385'
     stood 93 pixels right of its circle, its leader across mode 3's line, because '31284' (its
     Kxx twin, a circle on the same point) took the row beside it; ``ucs-map
@@ -80,9 +80,7 @@ def test_ucs_crossing_labels_cross_no_mode_and_no_other_circle(example, stiffnes
     label does not name."""
     import matplotlib.pyplot as plt
 
-    model = rdm.load_model(EXAMPLES / f"{example}.toml")
-    result = rdm.ucs_map(model, np.geomspace(*stiffness))
-    fig = result.plot()
+    result, fig = ucs_figure(example, stiffness)      # the fan's plotted once with test_figure_audit27p's
     fig.set_dpi(150)
     assert not _ucs_label_problems(result, fig)
     plt.close(fig)

@@ -38,10 +38,11 @@ def motor_pump():
 
 
 @pytest.fixture(scope="module")
-def fan_every_bearing():
-    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
-    return rdm.ucs_map(model, np.geomspace(1e5, 1e9, 41), bearings=["motor-DE", "motor-NDE", "fan-DE", "fan-NDE"],
-                       operating=(1000.0 * np.pi / 30.0, 3000.0 * np.pi / 30.0))
+def fan_every_bearing(ucs_figure):
+    """(map, its SI figure): plotted once per worker with test_figures35's (conftest.ucs_figure)."""
+    return ucs_figure("fan_on_bearings", (1e5, 1e9, 41), units="si",
+                      bearings=["motor-DE", "motor-NDE", "fan-DE", "fan-NDE"],
+                      operating=(1000.0 * np.pi / 30.0, 3000.0 * np.pi / 30.0))
 
 
 def _drawn(result, units="si"):
@@ -131,11 +132,13 @@ def test_every_fan_bearing_labels_stand_by_their_circles(fan_every_bearing):
     import matplotlib.pyplot as plt
     from matplotlib.text import Text
 
-    fig = _drawn(fan_every_bearing)
+    result, fig = fan_every_bearing
+    fig.set_dpi(DPI)
+    fig.canvas.draw()
     ax = fig.axes[0]
     renderer = fig.canvas.get_renderer()
     frame = ax.get_window_extent(renderer)
-    circles, speeds = _circles(ax, fan_every_bearing)
+    circles, speeds = _circles(ax, result)
     labels = _crossing_labels(ax)
     numbers = [t for t in labels if t.get_text()[:1].isdigit() and len(t.get_text()) >= 3]
     assert len(numbers) >= 8

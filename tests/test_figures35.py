@@ -27,10 +27,12 @@ LONG_LEADER = 24.0
 
 
 @pytest.fixture(scope="module")
-def fan_every_bearing():
-    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
-    return rdm.ucs_map(model, np.geomspace(1e5, 1e9, 41), bearings=["motor-DE", "motor-NDE", "fan-DE", "fan-NDE"],
-                       operating=(1000.0 * np.pi / 30.0, 3000.0 * np.pi / 30.0))
+def fan_every_bearing(ucs_figure):
+    """``fan_every_bearing(units)``: (map, its figure), plotted once per worker with
+    test_figures33's SI one (conftest.ucs_figure)."""
+    return lambda units: ucs_figure("fan_on_bearings", (1e5, 1e9, 41), units=units,
+                                    bearings=["motor-DE", "motor-NDE", "fan-DE", "fan-NDE"],
+                                    operating=(1000.0 * np.pi / 30.0, 3000.0 * np.pi / 30.0))
 
 
 def _box_distance(box, point):
@@ -56,8 +58,7 @@ def test_every_fan_bearing_crossing_label_stands_by_its_own_circles(fan_every_be
     import matplotlib.pyplot as plt
     from matplotlib.text import Annotation, Text
 
-    result = fan_every_bearing
-    fig = result.plot(units=units)
+    result, fig = fan_every_bearing(units)
     fig.set_dpi(DPI)
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()

@@ -9,7 +9,8 @@ Never a traceback, exit 1, several lines, or a run longer than the time limit
 
 Hypothesis drives the mutations through ``st.randoms()`` (so a failure shrinks to a small
 input) with ``derandomize=True``: the same inputs on every run. The number of inputs per test
-is ``ROTORDYN_FUZZ_EXAMPLES`` (default 150; e.g. ``ROTORDYN_FUZZ_EXAMPLES=2000`` for a long run);
+is ``ROTORDYN_FUZZ_EXAMPLES`` (default 150; e.g. ``ROTORDYN_FUZZ_EXAMPLES=2000`` for a long run;
+the model files' inputs in ``CHUNKS`` parametrized tests of an equal share);
 the counts tried appear in the terminal summary ("fuzz: ..."). ``tests/fuzz_many.py`` runs
 thousands outside pytest.
 """
@@ -59,9 +60,17 @@ def _quiet_numpy():
         yield
 
 
-@FUZZ
+#: the model files' inputs run as this many tests of EXAMPLES / CHUNKS inputs each, so that
+#: pytest-xdist spreads them (as one test they held a worker for 53 s of a CI run's 844)
+CHUNKS = 5
+
+
+@pytest.mark.parametrize("chunk", range(CHUNKS))
+@settings(FUZZ, max_examples=-(-EXAMPLES // CHUNKS))
 @given(rng=st.randoms(use_true_random=False))
-def test_mutated_model_files(folder, rng):
+def test_mutated_model_files(folder, chunk, rng):
+    """Each chunk draws its own inputs: hypothesis derandomizes a parametrized test from its node
+    id (``...[chunk]``), so the chunks' inputs differ and are the same on every run."""
     _check("model files", fuzzing.model_case(rng, folder))
 
 

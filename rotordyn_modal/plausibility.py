@@ -25,6 +25,7 @@ from ._blas import one_blas_thread
 from .assembly import bearing_motion, body_inertias, constant_stiffness_damping, mass_matrix, rigid_mass_matrix, \
     weight_force
 from .elements._bearing_validation import LONG_JOURNAL
+from .elements.bearings import light_load_stiffness
 from .linear_system import static_solution
 from .model._table import and_others, visible
 from .model.geometry import shift_matrix
@@ -248,18 +249,17 @@ def _low_rotor_mode_lines(model) -> list[str]:
     the symmetric part of the stiffness, whose strain energy lies mostly in the supports, not in
     a flexible shaft's bending (a long thin shaft bends at 0.2 Hz between rigid bearings: a
     legal mode, not a unit slip). Bearings tabulated over speed count with their coefficients at
-    their table's lowest speed (a table in N/mm is so at every speed). A model with journal
-    bearings is left out: a film has no stiffness at rest, and its running one follows the speed
-    (docs/model-file.md, "Warnings")."""
+    their table's lowest speed (a table in N/mm is so at every speed); plain journal bearings with
+    their films as at light load (:func:`~rotordyn_modal.elements.bearings.light_load_stiffness`:
+    a film has no stiffness at rest, and at any running speed it holds the journal with about
+    its load over its clearance; docs/model-file.md, "Warnings")."""
     import scipy.linalg
 
     from .assembly import shaft_stiffness
 
-    if any(b.coefficients.kind == "journal" for b in model.bearings):
-        return []
     first = model.dofs.n_frame
     stiffness, _ = constant_stiffness_damping(model)
-    stiffness = (stiffness + _lowest_table_stiffness(model))[first:, first:]
+    stiffness = (stiffness + _speed_dependent_stiffness(model))[first:, first:]
     if not stiffness.size:
         return []
     mass = mass_matrix(model)[first:, first:]
@@ -291,14 +291,21 @@ def _low_rotor_mode_lines(model) -> list[str]:
 
 def _low_rotor_line(model, rotor: str, at: str, how: str) -> str:
     """The one line of :func:`_low_rotor_mode_lines` and :func:`_rigid_rotor_bound_lines`: rotor
-    ``rotor``'s rigid-body mode ``at`` ("at 0.02 Hz"), found with ``how`` (what was held)."""
+    ``rotor``'s rigid-body mode ``at`` ("at 0.02 Hz"), found with ``how`` (what was held). A rotor
+    on journal bearings is told what sets a film's stiffness (its load over its clearance: the
+    rotor's mass cancels where the film carries its weight)."""
     held_by = [f"[bearings.{visible(b.name)}]" for b in model.bearings if b.rotor == rotor]
-    when = ("at their tables' lowest speeds" if any(b.coefficients.kind == "table" for b in model.bearings
-                                                     if b.rotor == rotor) else "at rest")
+    kinds = {b.coefficients.kind for b in model.bearings if b.rotor == rotor}
+    when = "at their tables' lowest speeds" if "table" in kinds else "at rest"
+    if "journal" in kinds:
+        when = "journal films at light load" if kinds == {"journal"} else f"{when}, journal films at light load"
+        cause = ("a journal film holds about its load over its clearance: a load in kN given as N, or a mass in g "
+                 "given as kg, or an inertia in kg mm^2 given as kg m^2, puts modes 32 times too low or more")
+    else:
+        cause = "a stiffness in N/mm given as N/m, or a mass in g given as kg, puts modes 32 times too low"
     return (f"{model.source}: rotor {visible(rotor)!r} has a rigid-body mode {at} in its bearings "
             f"({', '.join(held_by[:3])}{', ...' if len(held_by) > 3 else ''}; {when}, {how}), below "
-            f"{LOWEST_MOUNT_FREQUENCY:g} Hz, where bearings hold a rotor far stiffer: a stiffness in N/mm given as "
-            "N/m, or a mass in g given as kg, puts modes 32 times too low")
+            f"{LOWEST_MOUNT_FREQUENCY:g} Hz, where bearings hold a rotor far stiffer: {cause}")
 
 
 def _rigid_rotor_bound_lines(model) -> list[str]:
@@ -307,25 +314,21 @@ def _rigid_rotor_bound_lines(model) -> list[str]:
     bearings, the stator, the other rotors and the pedestals held (Rayleigh-Ritz on the rotor's
     4 or 5 rigid motions, from the sparse stiffness). The lowest value is an upper bound of the
     machine's lowest mode at rest with the stator held, so a bound below
-    :data:`LOWEST_MOUNT_FREQUENCY` means a mode below it; the shape strains no shaft. Journal
-    bearings are left out as there; speed tables count at their lowest speed. One line, for the
+    :data:`LOWEST_MOUNT_FREQUENCY` means a mode below it; the shape strains no shaft. Speed tables
+    count at their lowest speed and journal films as at light load, as there. One line, for the
     rotor of the lowest bound."""
     from .assembly import _sparse_mass, _sparse_stiffness_damping
 
-    if any(b.coefficients.kind == "journal" for b in model.bearings):
-        return []
     dofs = model.dofs
     # the sparse K and M of sparse_constant_matrices, without its gyroscopic matrix (a fifth of its cost)
     stiffness, mass = _rotor_blocks(_sparse_stiffness_damping(model)[0], dofs), _rotor_blocks(_sparse_mass(model), dofs)
     rigid = [_rigid_motions(dofs.shafts[j] if dofs.shafts else None, rows.stop - rows.start)
              for j, rows in enumerate(dofs.slices)]
     reduced = [(r.T @ (0.5 * (k + k.T)) @ r, r.T @ m @ r) for r, k, m in zip(rigid, stiffness, mass)]
-    for bearing in model.bearings:
-        if bearing.coefficients.kind == "table":
-            j = dofs.rotors.index(bearing.rotor)
-            moves = dofs.local_relative_motion(bearing.rotor, bearing.position) @ rigid[j]
-            k6 = bearing.coefficients.stiffness[0]
-            reduced[j] = (reduced[j][0] + moves.T @ (0.5 * (k6 + k6.T)) @ moves, reduced[j][1])
+    for bearing, k6 in _speed_dependent_pieces(model):
+        j = dofs.rotors.index(bearing.rotor)
+        moves = dofs.local_relative_motion(bearing.rotor, bearing.position) @ rigid[j]
+        reduced[j] = (reduced[j][0] + moves.T @ (0.5 * (k6 + k6.T)) @ moves, reduced[j][1])
     lowest = _lowest_generalized(reduced)
     if not lowest.size:
         return []
@@ -392,16 +395,28 @@ def _rigid_motions(shaft, width: int) -> np.ndarray:
     return columns
 
 
-def _lowest_table_stiffness(model) -> np.ndarray:
-    """The stiffness [N/m, N m/rad] of the bearings tabulated over speed, each at its table's
-    first (lowest) speed, shape (n, n); zeros without such bearings."""
+def _speed_dependent_stiffness(model) -> np.ndarray:
+    """The stiffness [N/m, N m/rad] of the bearings whose coefficients depend on speed, as the
+    rigid-body checks take them (:func:`_speed_dependent_pieces`), shape (n, n); zeros without
+    such bearings."""
     n = model.dofs.n
     stiffness = np.zeros((n, n))
+    for bearing, k6 in _speed_dependent_pieces(model):
+        rows, moves = bearing_motion(model, bearing)
+        stiffness[rows, rows] += moves.T @ k6 @ moves
+    return stiffness
+
+
+def _speed_dependent_pieces(model):
+    """``(bearing, K (6, 6))`` of each bearing whose coefficients depend on speed, model axes at
+    the bearing point [N/m, N/rad, N m/m, N m/rad]: a table at its first (lowest) speed (a table
+    in N/mm is so at every speed), a plain journal bearing with its film as at light load
+    (:func:`~rotordyn_modal.elements.bearings.light_load_stiffness`)."""
     for bearing in model.bearings:
         if bearing.coefficients.kind == "table":
-            rows, moves = bearing_motion(model, bearing)
-            stiffness[rows, rows] += moves.T @ bearing.coefficients.stiffness[0] @ moves
-    return stiffness
+            yield bearing, bearing.coefficients.stiffness[0]
+        elif bearing.coefficients.kind == "journal":
+            yield bearing, light_load_stiffness(bearing.coefficients)
 
 
 def _coordinate_rotor(model, index: int) -> str:

@@ -197,3 +197,38 @@ def test_a_plausible_journal_model_over_200_coordinates_stays_quiet(tmp_path):
     path.write_text(text)
     assert rdm.load_model(path).dofs.n > 200
     assert _model_warnings(path) == []
+
+
+# --------------------------------------------------------- review: a study's keys parsed once
+def test_a_studys_key_checks_parse_each_key_once(monkeypatch):
+    """``_one_parameter_per_value`` parsed every key again after ``_check_keys`` (and a 'value'
+    parameter's key was parsed twice there): now the places ``_check_keys`` found are used."""
+    import sys
+
+    from rotordyn_modal.model import parameters as parameters_module
+    from rotordyn_modal.study import parse_study
+
+    checks = {"_check_keys", "_one_parameter_per_value", "_holds_array"}
+    calls = []
+    original = parameters_module.parse_key
+
+    def counted(key, data, source="<model>"):
+        frame, names = sys._getframe(1), set()
+        while frame is not None:
+            names.add(frame.f_code.co_name)
+            frame = frame.f_back
+        if names & checks:
+            calls.append(key)
+        return original(key, data, source)
+
+    monkeypatch.setattr(parameters_module, "parse_key", counted)
+    front = "suspensions.mount-FL.stiffness"
+    study = {"parameters": [{"name": "front", "key": f"{front}[2]", "values": [1e5, 4e5]},
+                            {"name": "rear", "keys": ["suspensions.mount-RR.stiffness", "stator.mass"],
+                             "scale": [0.9, 1.1]}],
+             "analyses": {"modes": {"speed_rpm": 1000.0}}}
+    model = rdm.load_model(EXAMPLES / "rubber_mounts.toml")
+    before = model.to_dict()
+    parse_study(study, "s.toml", model)
+    assert sorted(calls) == sorted([f"{front}[2]", "suspensions.mount-RR.stiffness", "stator.mass"])
+    assert model.to_dict() == before

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.linalg
+import tomli_w
 
 import rotordyn_modal as rdm
 from rotordyn_modal import linear_system
@@ -33,29 +34,15 @@ ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
 JOURNAL_ROTOR = EXAMPLES / "journal_rotor.toml"
 
-#: a rigid rotor on two linear bearings of 2 N/m (N/mm typed for... 2000 N/m read as 2), beside a
-#: rotor on journals; its centre sits 1 m off the other's axis
-AUX = """
-[[rotors]]
-name = "aux"
-mass = 10.0
-center_of_mass = [{x}, 1.0, 0.0]
-polar_inertia = 0.05
-diametral_inertia = 0.1
-speed_ratio = 1.0
-
-[[bearings]]
-name = "aux-a"
-rotor = "aux"
-position = [{a}, 1.0, 0.0]
-stiffness = 2.0
-
-[[bearings]]
-name = "aux-b"
-rotor = "aux"
-position = [{b}, 1.0, 0.0]
-stiffness = 2.0
-"""
+def _aux(x: float, a: float, b: float) -> str:
+    """A rigid rotor 'aux' of 10 kg on two linear bearings of 2 N/m at ``a`` and ``b`` along x (a
+    stiffness in N/mm typed for N/m, as 2000 N/m read as 2), its centre at ``x``, 1 m off the
+    other rotor's axis: TOML to append to a model file."""
+    rotor = {"name": "aux", "mass": 10.0, "center_of_mass": [x, 1.0, 0.0], "polar_inertia": 0.05,
+             "diametral_inertia": 0.1, "speed_ratio": 1.0}
+    bearings = [{"name": f"aux-{end}", "rotor": "aux", "position": [at, 1.0, 0.0], "stiffness": 2.0}
+                for end, at in (("a", a), ("b", b))]
+    return "\n" + tomli_w.dumps({"rotors": [rotor], "bearings": bearings})
 
 
 def _model_warnings(path) -> list[str]:
@@ -154,7 +141,7 @@ def test_another_rotor_beside_journal_bearings_is_named(tmp_path):
     text = JOURNAL_ROTOR.read_text().replace('spin_axis = [1.0, 0.0, 0.0]\n',
                                              'spin_axis = [1.0, 0.0, 0.0]\nreference_rotor = "rotor"\n')
     path = tmp_path / "mixed.toml"
-    path.write_text(text + AUX.format(x=0.0, a=0.2, b=-0.2))
+    path.write_text(text + _aux(0.0, 0.2, -0.2))
     aux = [r for r in tomllib.loads(path.read_text())["rotors"] if r["name"] == "aux"][0]
     K = np.zeros((4, 4))
     for x in (0.2, -0.2):
@@ -176,7 +163,7 @@ def test_another_rotor_beside_journals_over_200_coordinates_is_named(tmp_path):
     text = text.replace("element_length = 0.2 ", "element_length = 0.02 ").replace(
         'spin_axis = [1.0, 0.0, 0.0]\n', 'spin_axis = [1.0, 0.0, 0.0]\nreference_rotor = "compressor"\n')
     path = tmp_path / "fine_mixed.toml"
-    path.write_text(text + AUX.format(x=0.85, a=1.05, b=0.65))
+    path.write_text(text + _aux(0.85, 1.05, 0.65))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelWarning)
         assert rdm.load_model(path).dofs.n > 200
@@ -232,3 +219,54 @@ def test_a_studys_key_checks_parse_each_key_once(monkeypatch):
     parse_study(study, "s.toml", model)
     assert sorted(calls) == sorted([f"{front}[2]", "suspensions.mount-RR.stiffness", "stator.mass"])
     assert model.to_dict() == before
+
+
+# ------------------------------------- review: one eigvalsh fallback for the Hermitian route
+def _undamped_shaft():
+    steel = {"name": "steel", "density": 7800.0, "young_modulus": 2.1e11, "shear_modulus": 8.1e10}
+    return rdm.Model.from_dict({
+        "name": "shaft", "spin_axis": [1.0, 0.0, 0.0], "materials": [steel],
+        "rotors": [{"name": "r", "start": [0.0, 0.0, 0.0], "element_length": 0.1,
+                    "shaft": [{"length": 0.6, "outer_diameter": 0.05, "material": "steel"}],
+                    "disks": [{"name": "d", "axial_position": 0.36, "mass": 5.0, "polar_inertia": 0.05,
+                               "diametral_inertia": 0.03}]}],
+        "bearings": [{"name": f"b{i}", "rotor": "r", "axial_position": z, "stiffness": [1e6, 3e6]}
+                     for i, z in enumerate((0.0, 0.6))]})
+
+
+def test_the_hermitian_routes_fall_back_to_eigvalsh_through_one_function(monkeypatch):
+    """A speed whose LAPACK reduction failed (NaN) is solved again by ``eigvalsh`` of ``B`` in one
+    function, for both routes (the kept reductions of a sweep, and the eigenvalues alone): the
+    roots equal those of the sweep without the failure to 1e-12 of the largest."""
+    from rotordyn_modal.analysis import _lowest
+
+    model, speeds = _undamped_shaft(), np.linspace(0.0, 3000.0, 4)
+    assert model.dofs.n < _lowest.DENSE_BELOW
+    reference = rdm.campbell(model, speeds, critical=False, modes=6).eigenvalues
+    original, filled = _lowest._hermitian_reductions, _lowest._eigvalsh_where_failed
+    calls = []
+
+    def failing(constant, gyroscopic, at):
+        eigenvalues, reduced, taus = original(constant, gyroscopic, at)
+        eigenvalues[len(at) // 2], taus[len(at) // 2] = np.nan, np.nan
+        return eigenvalues, reduced, taus
+
+    def spied(out, constant, gyroscopic, at):
+        calls.append(int(np.isnan(out[:, 0]).sum()))
+        return filled(out, constant, gyroscopic, at)
+
+    monkeypatch.setattr(_lowest, "_hermitian_reductions", failing)
+    monkeypatch.setattr(_lowest, "_eigvalsh_where_failed", spied)
+    again = rdm.campbell(_undamped_shaft(), speeds, critical=False, modes=6).eigenvalues
+    assert calls and calls[0] == 1
+    np.testing.assert_allclose(again, reference, rtol=0, atol=1e-12 * np.abs(reference).max())
+    # the eigenvalues-only route, on the matrices B of this model
+    constant, gyroscopic = np.zeros((4, 4), complex), np.zeros((4, 4), complex)
+    constant[:2, 2:] = -1j * np.array([[2.0, 0.5], [0.0, 1.0]])
+    constant[2:, :2] = constant[:2, 2:].conj().T
+    gyroscopic[2:, 2:] = 1j * np.array([[0.0, 1.0], [-1.0, 0.0]])
+    calls.clear()
+    out = _lowest._hermitian_eigenvalues(constant, gyroscopic, np.array([0.0, 2.0, 5.0]))
+    assert calls == [1]
+    for row, speed in zip(out, (0.0, 2.0, 5.0)):
+        np.testing.assert_allclose(row, np.linalg.eigvalsh(constant + speed * gyroscopic), atol=1e-13)

@@ -381,7 +381,7 @@ def test_a_rotor_on_plausible_bearings_over_200_coordinates_is_quiet(tmp_path):
 def test_the_rigid_motions_of_a_flexible_rotor_strain_no_shaft(tmp_path):
     """The Ritz basis is rigid: the shaft's stiffness times it is zero to round-off."""
     from rotordyn_modal.assembly import shaft_stiffness
-    from rotordyn_modal.linear_system import _rigid_motions
+    from rotordyn_modal.plausibility import _rigid_motions
 
     model = rdm.load_model(_fine_compressor(tmp_path, "stiffness = 5.0e7"))
     rows = model.dofs.slices[0]

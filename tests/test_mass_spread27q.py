@@ -17,7 +17,7 @@ import tomli_w
 
 import rotordyn_modal as rdm
 from rotordyn_modal.cli.main import main
-from rotordyn_modal.linear_system import SPREAD_REFUSE_DIGITS, support_spreads
+from rotordyn_modal.stiffness_spread import SPREAD_REFUSE_DIGITS, support_spreads
 
 EPS = np.finfo(float).eps
 

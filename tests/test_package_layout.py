@@ -35,7 +35,7 @@ DEVELOPING = PACKAGE.parent / "docs" / "DEVELOPING.md"
 ROOT = PACKAGE.name
 
 #: second component of a module name -> floor (anything not listed is on the model floor, 0)
-FLOORS = {"assembly": 1, "linear_system": 2, "analysis": 3, "simulation": 3, "plotting": 4, "io": 4,
+FLOORS = {"assembly": 1, "linear_system": 2, "stiffness_spread": 2, "plausibility": 2, "analysis": 3, "simulation": 3, "plotting": 4, "io": 4,
           "study": 5, "report": 5, "cli": 6, "__main__": 7}
 TOP = 7                                             # the package itself; __main__ (python -m) stands there too
 

@@ -192,7 +192,7 @@ def test_a_casing_carrying_pedestals_sags_by_the_whole_weight_over_its_mounts():
                                -(mass * G / 2 + M_PED * G) / K_PED[1], rtol=1e-12)
     loads = result.loads_table()
     np.testing.assert_allclose(loads[loads["kind"] == "pedestal"]["Fz_N"], -M_PED * G, rtol=1e-15)
-    from rotordyn_modal.linear_system import implausible
+    from rotordyn_modal.plausibility import implausible
     soft = _pedestal_model(True, centre=0.0, stations=(-0.3, 0.3), mass=mass, casing=(1e3, 1e3, 2e3))
     (line,) = implausible(soft)                         # the check's sag: the same weights
     assert float(line.split("would sag ")[1].split(" m ")[0]) == pytest.approx(total / (4 * 2e3), rel=2e-3)
@@ -349,7 +349,7 @@ def test_a_load_on_a_free_motion_is_refused_naming_it():
 
 def test_check_warns_of_the_sag_the_static_solution_gives():
     model = _casing(k=(2e2, 3e2, 4e2))                 # N/mm given as N/m
-    from rotordyn_modal.linear_system import implausible
+    from rotordyn_modal.plausibility import implausible
     (line,) = implausible(model)
     sag = max(abs(r.displacement[2]) for r in rdm.static(model).reactions)
     assert f"would sag {sag:.3g} m" in line

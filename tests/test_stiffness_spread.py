@@ -15,7 +15,8 @@ import tomli_w
 import rotordyn_modal as rdm
 from rotordyn_modal.cli.main import main
 from rotordyn_modal.errors import ModelError
-from rotordyn_modal.linear_system import SPREAD_REFUSE_DIGITS, implausible, support_spreads
+from rotordyn_modal.plausibility import implausible
+from rotordyn_modal.stiffness_spread import SPREAD_REFUSE_DIGITS, support_spreads
 
 STEEL = {"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "shear_modulus": 8.12e10}
 LENGTH, DIAMETER = 25.0, 0.05           # L/D = 500

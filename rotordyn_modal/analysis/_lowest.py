@@ -1006,8 +1006,7 @@ def _gyroscopic_roots(stack, speeds):
                                                   speeds, item_bytes=64 * n * n)
         _kept_reductions(stack).update(
             (float(speed), (reduced[p], taus[p], omega[p])) for p, speed in enumerate(speeds) if taus[p, 0] == taus[p, 0])
-        for p in np.flatnonzero(np.isnan(omega[:, 0])):   # pragma: no cover (LAPACK does not fail on finite input)
-            omega[p] = np.linalg.eigvalsh(1j * (constant.imag + speeds[p] * gyroscopic.imag))
+        _eigvalsh_where_failed(omega, constant, gyroscopic, speeds)
     else:
         omega = _batches._threaded(functools.partial(_hermitian_eigenvalues, constant, gyroscopic), speeds,
                                    item_bytes=64 * n * n)
@@ -1226,7 +1225,13 @@ def _hermitian_eigenvalues(constant, gyroscopic, speeds):
     diagonal and off-diagonals ``e``, whose eigenvalues ``dsterf`` gives. Within ``eps |B|`` of
     ``B``'s, as ``eigvalsh``'s (the reduction is backward stable and ``T`` is taken exactly skew),
     at two thirds of its time (a real reduction, not a complex one: rotor_example, 56 states)."""
-    out = _hermitian_reductions(constant, gyroscopic, speeds)[0]
+    return _eigvalsh_where_failed(_hermitian_reductions(constant, gyroscopic, speeds)[0], constant, gyroscopic,
+                                  speeds)
+
+
+def _eigvalsh_where_failed(out, constant, gyroscopic, speeds):
+    """``out`` (P, 2 n), the eigenvalues of :func:`_hermitian_reductions`, with each row its
+    LAPACK reduction left NaN solved again by ``eigvalsh`` of ``B`` at that speed (in place)."""
     for p in np.flatnonzero(np.isnan(out[:, 0])):   # pragma: no cover (LAPACK does not fail on finite input)
         out[p] = np.linalg.eigvalsh(1j * (constant.imag + speeds[p] * gyroscopic.imag))
     return out

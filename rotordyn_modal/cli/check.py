@@ -21,7 +21,8 @@ the lowest mode with most of its strain energy in the shaft.
 Exit code 0 when the model is valid, 2 (with one message naming the
 file, table, key, value and what was expected) when it is not. What is legal but probably not
 meant (a static sag of over 0.1 m under gravity: a stiffness in N/mm given as N/m, or a mass in g given as kg; a mount mode
-below 0.5 Hz; a journal bearing longer than its diameter; a flexible rotor's station within 1e-3 of an
+below 0.5 Hz; a rotor's rigid-body mode in its bearings below 0.5 Hz, journal films taken at light load;
+a journal bearing longer than its diameter; a flexible rotor's station within 1e-3 of an
 element of another, placed at its node) is printed on stderr, one warning line
 each, as every command does (docs/model-file.md, "Warnings")."""
 

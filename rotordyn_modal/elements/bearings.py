@@ -30,7 +30,8 @@ from ..errors import InputError, ModelWarning
 HIGH_ECCENTRICITY = 0.9
 _WARNED: set = set()   # the bearings already warned about in this process
 
-__all__ = ["BearingCoefficients", "JournalData", "evaluate", "local_to_model", "is_speed_dependent", "table_left"]
+__all__ = ["BearingCoefficients", "JournalData", "evaluate", "local_to_model", "is_speed_dependent", "table_left",
+           "light_load_stiffness"]
 
 
 @dataclass(frozen=True)
@@ -235,6 +236,22 @@ def _journal_film(journal: JournalData, speeds: np.ndarray, where: str):
         raise InputError(f"{where}: {error}") from None
     _warn_high_eccentricity(film, speeds, journal, where)
     return _embed_radial(film.stiffness, journal.axes), _embed_radial(film.damping, journal.axes)
+
+
+def light_load_stiffness(coefficients: BearingCoefficients) -> np.ndarray:
+    """A plain journal bearing's stiffness (6, 6), model axes, at the bearing point [N/m, N/rad,
+    N m/m, N m/rad], with its film as at light load: its constant part (axial and moment
+    stiffness given) plus the symmetric part of the film's stiffness as the eccentricity goes to
+    zero, ``load / clearance`` times :data:`~rotordyn_modal.elements.journal_bearing.LIGHT_LOAD_STIFFNESS`
+    along and across its load (``JournalData.axes``; a rotor on three or more journals: the
+    light-load films' split). No speed is needed: at rest the film has no stiffness, and at any
+    running speed the symmetric part holds the journal with about ``load / clearance``.
+    """
+    from .journal_bearing import LIGHT_LOAD_STIFFNESS
+
+    journal = coefficients.journal
+    film = journal.load / journal.clearance * LIGHT_LOAD_STIFFNESS
+    return coefficients.stiffness[0] + _embed_radial(film[None], journal.axes)[0]
 
 
 def _journal_film_over_speed(journal: JournalData, speeds: np.ndarray, where: str):

@@ -14,10 +14,19 @@ import numpy as np
 from ..errors import InputError
 from ..units import to_rpm
 
-__all__ = ["JournalBearing", "short_journal_bearing", "THINNEST_FILM", "rigid_rotor_journal_loads", "JournalLoadOverSpeed"]
+__all__ = ["JournalBearing", "short_journal_bearing", "THINNEST_FILM", "rigid_rotor_journal_loads", "JournalLoadOverSpeed",
+           "LIGHT_LOAD_STIFFNESS"]
 
 _PI2 = np.pi**2
 _A = 16.0 - _PI2  # recurring constant of the load capacity
+#: the symmetric part of the film's dimensionless stiffness ``K clearance / load`` (rows and columns
+#: along and across the load) as the eccentricity goes to zero, a light load or a high speed: the
+#: limit of eq. 12.11 (docs/theory.md §12), ``4/pi`` along the load and ``8/pi`` across it. The
+#: cross-coupled terms grow as ``1/eps`` there, but with opposite signs: their symmetric part
+#: vanishes. Over all eccentricities the symmetric part's lower eigenvalue stays between about 0.6
+#: and ``4/pi``, so the film of a journal carrying ``load`` holds it with about ``load / clearance``
+#: at any speed
+LIGHT_LOAD_STIFFNESS = np.diag([4.0 / np.pi, 8.0 / np.pi])
 #: thinnest film [m] the coefficients are given for: at clearance * (1 - eccentricity) below a
 #: nanometre (a few oil molecules) the continuum film of Reynolds' equation means nothing
 THINNEST_FILM = 1e-9

@@ -44,17 +44,17 @@ def load_model(path, units: str = "si") -> Model:
         The file does not exist, is not TOML, or fails validation (the message
         names the file, table, key, value and what was expected), or a support so much
         stiffer than what it holds that the low modes keep no digit
-        (:func:`rotordyn_modal.linear_system.stiffness_spread_lines`).
+        (:func:`rotordyn_modal.stiffness_spread.stiffness_spread_lines`).
 
     Warns
     -----
     ModelWarning
         One per thing that is legal but probably not meant
-        (:func:`rotordyn_modal.linear_system.implausible`: a static sag of metres under
+        (:func:`rotordyn_modal.plausibility.implausible`: a static sag of metres under
         gravity, a mount mode below 0.5 Hz, a long journal bearing, a support that costs the
         low modes more than six digits: docs/theory.md §8, "Stiffness spread").
     """
-    from ..linear_system import implausible
+    from ..plausibility import implausible
 
     data = read_toml(path, "model file")
     _not_a_ross_file(data, path)

@@ -206,9 +206,9 @@ def check_description(description: dict, source) -> None:
     -----
     ModelWarning
         What is legal but probably not meant, as ``check`` says it of the model file
-        (:func:`rotordyn_modal.linear_system.implausible`: a modulus or a diameter in other units).
+        (:func:`rotordyn_modal.plausibility.implausible`: a modulus or a diameter in other units).
     """
-    from ..linear_system import implausible
+    from ..plausibility import implausible
     from ..model.machine import Model
 
     _check_support_points(description, source)

@@ -22,7 +22,7 @@ from ..errors import InputError
 from ._table import plain, visible_names
 from .components import ARRAY_TABLES
 
-__all__ = ["parse_key", "get_value", "set_value", "scale_value", "change_at"]
+__all__ = ["parse_key", "get_value", "value_at", "set_value", "scale_value", "change_at"]
 
 _INDEX = re.compile(r"\[(-?\d+)\]")
 
@@ -91,10 +91,10 @@ def _nested_element(container, field, key, source):
 
 def get_value(data: dict, key: str, source: str = "<model>"):
     """The value a dotted key names."""
-    return _value_at(parse_key(key, data, source), key, source)
+    return value_at(parse_key(key, data, source), key, source)
 
 
-def _value_at(located, key, source):
+def value_at(located, key, source):
     """The value at a place :func:`parse_key` found (``(container, field, indices)``)."""
     container, field, indices = located
     value = container[field]
@@ -126,7 +126,7 @@ def change_at(located, apply: str, value, key: str, source: str = "<model>") -> 
     found: ``located`` is its ``(container, field, indices)``, ``key`` names it in messages."""
     container, field, indices = located
     if apply != "value":
-        current = _value_at(located, key, source)
+        current = value_at(located, key, source)
         try:
             with np.errstate(over="ignore", invalid="ignore"):  # an infinite result is refused by validation
                 value = (np.asarray(current, dtype=float) * float(value)).tolist()

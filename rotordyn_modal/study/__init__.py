@@ -97,7 +97,7 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     -----
     ImplausibleVariants
         Once, when some variants' models are legal but probably not meant (what ``check`` warns
-        of, :func:`~rotordyn_modal.linear_system.implausible`: a 35 µm shaft, a sag of metres):
+        of, :func:`~rotordyn_modal.plausibility.implausible`: a 35 µm shaft, a sag of metres):
         how many, and the first one's warning. The results are the same either way.
     """
     from .analyses import describe

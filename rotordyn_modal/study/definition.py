@@ -8,6 +8,7 @@ file, the table and key, the value found and what was expected, like a bad model
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field
 
@@ -170,9 +171,11 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
     items = data.get("parameters")
     if not isinstance(items, list) or not items:
         raise StudyError(source, "[[parameters]]", items, "at least one [[parameters]] table")
-    parameters = tuple(_parameter(item, i, source, model) for i, item in enumerate(items))
+    description = model.to_dict() if model is not None else None      # the base model's, read only
+    parsed = [_parameter(item, i, source, model, description) for i, item in enumerate(items)]
+    parameters = tuple(parameter for parameter, _ in parsed)
     _unique_names(parameters, source)
-    _one_parameter_per_value(parameters, model, source)
+    _one_parameter_per_value(parameters, [places for _, places in parsed], source)
     random = [p for p in parameters if not p.is_grid]
     samples = _samples(data, random, source)
     _check_variant_count(parameters, samples, design, source)
@@ -259,24 +262,18 @@ def _unique_names(parameters, source):
         seen.add(p.name)
 
 
-def _one_parameter_per_value(parameters, model, source):
+def _one_parameter_per_value(parameters, places, source):
     """Refuse two parameters that address one value of the base model (the same key, a key and
     an element of it, a name and an index of one table) where either sets it (``apply =
     "value"``): the later one overwrote the other in every variant, whose column then showed
     numbers no variant had. Two factors (``"scale"``) multiply, as given; one factor's ``keys``
-    addressing one value twice is refused (it was applied twice: the factor squared)."""
-    if model is None:
-        return
-    from ..model.parameters import parse_key
-
-    data, seen = model.to_dict(), []
-    for i, parameter in enumerate(parameters):
-        for key in parameter.keys:
-            try:
-                container, name, indices = parse_key(key, data, model.source)
-                place = (id(container), name, _positive_indices(container[name], indices))
-            except (InputError, IndexError, TypeError, KeyError):
-                continue     # refused with its own line by _check_keys
+    addressing one value twice is refused (it was applied twice: the factor squared).
+    ``places``: per parameter, the place each of its keys addresses in one description of the
+    base model, as :func:`_check_keys` parsed them (empty without a base model)."""
+    seen = []
+    for i, (parameter, located) in enumerate(zip(parameters, places)):
+        for key, (container, name, indices) in zip(parameter.keys, located):
+            place = (id(container), name, _positive_indices(container[name], indices))
             for j, other, other_key, (c, n, idx) in seen:
                 shorter = min(len(idx), len(place[2]))
                 if (c, n) != place[:2] or idx[:shorter] != place[2][:shorter]:
@@ -304,7 +301,9 @@ def _positive_indices(value, indices) -> tuple:
     return tuple(out)
 
 
-def _parameter(item, i, source, model) -> Parameter:
+def _parameter(item, i, source, model, data) -> tuple:
+    """The parameter of ``[[parameters]]`` table ``item`` (number ``i``, from 0) and the places its
+    keys address in ``data``, the base model's description (:func:`_check_keys`)."""
     where = f"[[parameters]] {i + 1}"
     if not isinstance(item, dict):
         raise StudyError(source, where, item, "a table")
@@ -320,15 +319,15 @@ def _parameter(item, i, source, model) -> Parameter:
         grid = grid_values(item[grid_keys[0]], f"{where} {grid_keys[0]}", source)
         apply = "value" if grid_keys[0] == "values" else "scale"
         parameter = Parameter(name=name, keys=keys, apply=apply, grid=grid)
-        _check_keys(parameter, grid[0], model, where, source)
+        places = _check_keys(parameter, grid[0], model, data, where, source)
         _check_range(parameter, model, _grid_ends(grid, item, grid_keys[0]), where, source)
-        return parameter
+        return parameter, places
     if "distribution" not in item:
         raise StudyError(source, where, sorted(item), "one of values, scale (a grid) or distribution")
     parameter = _distribution(item, name, keys, where, source)
-    _check_keys(parameter, parameter.frozen().median(), model, where, source)
+    places = _check_keys(parameter, parameter.frozen().median(), model, data, where, source)
     _check_range(parameter, model, _distribution_ends(parameter, item), where, source)
-    return parameter
+    return parameter, places
 
 
 def _keys(item, where, source) -> tuple:
@@ -407,21 +406,32 @@ def _truncation(value, where, source):
     return float(value[0]), float(value[1])
 
 
-def _check_keys(parameter, number, model, where, source):
-    """Apply a representative number to the base model's keys (refuses unknown keys)."""
+def _check_keys(parameter, number, model, data, where, source) -> list:
+    """Apply a representative number at the base model's keys (refuses unknown keys), each key
+    parsed once: the places ``(container, field, indices)`` they address in ``data`` (the base
+    model's description, left unchanged: the number is applied to a copy of each value), for
+    :func:`_one_parameter_per_value`; empty without a base model."""
     if model is None:
-        return
-    from ..model.parameters import scale_value, set_value
+        return []
+    from ..model.parameters import change_at, parse_key
 
-    data = model.to_dict()
+    places = []
     for key in parameter.keys:
-        if parameter.apply == "value" and _holds_array(data, key, model.source):
-            raise StudyError(source, f"{where} key", key, "a key holding one number to set (it holds an "
-                             "array: multiply it with scale / apply = 'scale', or pick an element with [i])")
         try:
-            (set_value if parameter.apply == "value" else scale_value)(data, key, float(number), model.source)
+            located = parse_key(key, data, model.source)
         except InputError as error:
             raise StudyError(source, f"{where} key", key, f"a dotted key of the model ({error})") from None
+        if parameter.apply == "value" and _holds_array(located, key, model.source):
+            raise StudyError(source, f"{where} key", key, "a key holding one number to set (it holds an "
+                             "array: multiply it with scale / apply = 'scale', or pick an element with [i])")
+        container, name, indices = located
+        try:
+            change_at(({name: copy.deepcopy(container[name])}, name, indices), parameter.apply, float(number), key,
+                      model.source)
+        except InputError as error:
+            raise StudyError(source, f"{where} key", key, f"a dotted key of the model ({error})") from None
+        places.append(located)
+    return places
 
 
 def _grid_ends(grid, item, grid_key) -> list:
@@ -507,13 +517,14 @@ def _turns_non_positive(current, apply: str, number: float) -> bool:
     return number <= 0 and bool(np.any(values > 0))
 
 
-def _holds_array(data, key, model_source) -> bool:
-    from ..model.parameters import get_value
+def _holds_array(located, key, model_source) -> bool:
+    """Whether the place :func:`~rotordyn_modal.model.parameters.parse_key` found holds an array."""
+    from ..model.parameters import value_at
 
     try:
-        return isinstance(get_value(data, key, model_source), list)
+        return isinstance(value_at(located, key, model_source), list)
     except InputError:
-        return False  # an unknown key: refused with the model's message below
+        return False  # an index out of range: refused with the model's message below
 
 
 def _correlation(table, random, source) -> np.ndarray:

@@ -110,7 +110,7 @@ def run_chunk(task: ChunkTask) -> dict:
     -------
     dict
         ``index``, ``start``, ``error`` (ndarray of str, '' where it worked),
-        ``warning`` (ndarray of str: the first line :func:`~rotordyn_modal.linear_system.implausible`
+        ``warning`` (ndarray of str: the first line :func:`~rotordyn_modal.plausibility.implausible`
         says of the variant's model, as ``check`` would warn; '' for none) and each output
         variable stacked over the chunk's variants.
     """
@@ -136,9 +136,9 @@ def run_chunk(task: ChunkTask) -> dict:
 
 def first_implausible(model) -> str:
     """The first warning ``load_model`` would give of ``model`` (legal but probably not meant:
-    :func:`~rotordyn_modal.linear_system.implausible`), or '' (none, or a check that fails: the
+    :func:`~rotordyn_modal.plausibility.implausible`), or '' (none, or a check that fails: the
     analyses then say what is wrong)."""
-    from ..linear_system import implausible
+    from ..plausibility import implausible
 
     try:
         lines = implausible(model)

@@ -455,7 +455,7 @@ def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0
 
 def _inside_and_clear(candidates, placed, gap, frame, obstacles):
     """Mask of the ``candidates`` inside ``frame``, ``gap`` clear of ``placed`` and not on ``obstacles``."""
-    boxes = np.asarray(candidates, float).reshape(-1, 4)
+    boxes = as_boxes(candidates)
     ok = (boxes[:, 0] >= frame[0]) & (boxes[:, 1] >= frame[1]) & (boxes[:, 2] <= frame[2]) & (boxes[:, 3] <= frame[3])
     for others, (gap_u, gap_v) in ((placed, gap), (obstacles, (0.0, 0.0))):
         if len(others):
@@ -1324,7 +1324,27 @@ def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS,
     boxes = np.column_stack([lefts, bottoms, lefts + w, bottoms + h])
     du = np.maximum(np.maximum(boxes[:, 0] - x, x - boxes[:, 2]), 0.0)
     dv = np.maximum(np.maximum(boxes[:, 1] - y, _BELOW * (y - boxes[:, 3])), 0.0)
-    return [tuple(box) for box in boxes[np.argsort(np.hypot(du, dv), kind="stable")].tolist()]
+    return BoxList(boxes[np.argsort(np.hypot(du, dv), kind="stable")])
+
+
+class BoxList(list):
+    """Boxes (left, bottom, right, top) as a list of tuples, and the same numbers as an (n, 4)
+    array (``array``): the list is asked about box by box, the array all at once (made from the
+    list again for each question, it cost as much as the questions)."""
+
+    def __init__(self, array):
+        self.array = np.asarray(array, float).reshape(-1, 4)
+        super().__init__(tuple(box) for box in self.array.tolist())
+
+    def taken(self, mask) -> "BoxList":
+        """The boxes where ``mask`` (n,) is True, in order."""
+        return BoxList(self.array[mask])
+
+
+def as_boxes(boxes):
+    """``boxes`` (a :class:`BoxList`, a list of boxes or an array) as an (n, 4) array."""
+    array = getattr(boxes, "array", None)
+    return array if array is not None else np.asarray(boxes, float).reshape(-1, 4)
 
 
 def box_distance(box, x, y) -> float:
@@ -1337,7 +1357,7 @@ def box_distance(box, x, y) -> float:
 def box_distances(boxes, x, y):
     """:func:`box_distance` of each of ``boxes`` (n, 4) at once, shape (n,): the same numbers (the same
     operations, element by element)."""
-    boxes = np.asarray(boxes, float).reshape(-1, 4)
+    boxes = as_boxes(boxes)
     du = np.maximum(np.maximum(boxes[:, 0] - x, 0.0), x - boxes[:, 2])
     dv = np.maximum(np.maximum(boxes[:, 1] - y, 0.0), _BELOW * (y - boxes[:, 3]))
     return np.hypot(du, dv)
@@ -1559,7 +1579,7 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
         return clear(box) and not curves.cut(start, point, circle) and curves.along(start, point, circle) <= 0.5 * h \
             and not _through_circles(start, point, circles)
 
-    near = [b for b, within in zip(candidates, box_distances(candidates, *point) <= _MOST_COST * h) if within]
+    near = BoxList(as_boxes(candidates)[box_distances(candidates, *point) <= _MOST_COST * h])
     _clear_each(near, point, drawn, curves, square, quick)
     if stage == "count":
         free = np.nonzero(_inside_and_clear(near, placed, (gap, gap), frame, ()))[0]
@@ -1594,7 +1614,7 @@ def _clear_each(boxes, point, drawn, curves, square, out):
     if not len(boxes):
         return
     labels, leaders = drawn
-    array = np.asarray(boxes, float).reshape(-1, 4)
+    array = as_boxes(boxes)
     starts = np.column_stack([np.minimum(np.maximum(point[0], array[:, 0]), array[:, 2]),
                               np.minimum(np.maximum(point[1], array[:, 1]), array[:, 3])])
     ok = curves.free_each(array, square)

@@ -320,16 +320,18 @@ def _at_saved_dpi(fig):
 
 @contextmanager
 def _steady_layout(fig):
-    """Inside the block, :func:`_laid_out` lays ``fig`` out again only where that can move its
-    axes: the labels placed inside the block stand inside the axes, so they change no
-    margin, and a layout that left every axes where it found it (at one resolution) would do
-    so again. The fan's map with every bearing chosen was laid out 30 times (6.6 s of its
-    12-15 s of CPU); the constrained layout settles within a few runs per resolution."""
-    fig._ucs_settled = {}
+    """Inside the block, :func:`_laid_out` runs the constrained layout of ``fig`` only for axes
+    places (and resolution and size) it has not started from before: the labels placed inside
+    the block stand inside the axes and change no margin, so a layout from where an earlier one
+    started ends where that one ended, and the axes are put there. The fan's map with every
+    bearing chosen was laid out 30 times (6.6 s of its 12-15 s of CPU), compressor_on_journals'
+    14 times; the places alternate between the two resolutions (the figure's and
+    :data:`SAVED_DPI`) and settle within a few runs."""
+    fig._ucs_layouts = {}
     try:
         yield
     finally:
-        del fig._ucs_settled
+        del fig._ucs_layouts
 
 
 def _axes_places(fig) -> tuple:
@@ -339,24 +341,24 @@ def _axes_places(fig) -> tuple:
 
 
 def _laid_out(fig):
-    """:func:`._labels.laid_out_renderer`, skipped inside :func:`_steady_layout` where the last
-    layout at this resolution and size left every axes where it found it and they are still
-    there (the same layout again: nothing it reads has changed)."""
+    """:func:`._labels.laid_out_renderer`; inside :func:`_steady_layout`, where a layout at this
+    resolution and size started from these very axes places before, the axes are put where it
+    left them instead (the same layout again: nothing it reads has changed)."""
+    from matplotlib.transforms import Bbox
+
     from ._labels import laid_out_renderer
 
-    settled = getattr(fig, "_ucs_settled", None)
-    key = (float(fig.dpi), tuple(float(v) for v in fig.get_size_inches()))
-    before = _axes_places(fig)
-    if settled is not None and settled.get(key) == before:
-        return fig.canvas.get_renderer()
-    renderer = laid_out_renderer(fig)
-    if settled is not None:
-        after = _axes_places(fig)
-        if after == before:
-            settled[key] = after
-        else:
-            settled.pop(key, None)
-    return renderer
+    layouts = getattr(fig, "_ucs_layouts", None)
+    key = (float(fig.dpi), tuple(float(v) for v in fig.get_size_inches()), _axes_places(fig))
+    if layouts is None or key not in layouts:
+        renderer = laid_out_renderer(fig)
+        if layouts is not None:
+            layouts[key] = _axes_places(fig)
+        return renderer
+    for ax, (active, original) in zip(fig.get_axes(), layouts[key]):
+        ax._set_position(Bbox.from_bounds(*original), which="original")
+        ax._set_position(Bbox.from_bounds(*active), which="active")
+    return fig.canvas.get_renderer()
 
 
 def _circle_centres(ax, labels, first, count) -> np.ndarray:

@@ -335,9 +335,10 @@ def _steady_layout(fig):
 
 
 def _axes_places(fig) -> tuple:
-    """Every axes' place in ``fig`` (figure fraction, as laid out, and as given)."""
-    return tuple((tuple(ax.get_position().bounds), tuple(ax.get_position(original=True).bounds))
-                 for ax in fig.get_axes())
+    """Every axes' place in ``fig``: its corners (x0, y0, x1, y1) [figure fraction], as laid out
+    and as given (the corners themselves: bounds give x1 back as x0 + width, a bit off at times)."""
+    return tuple((tuple(ax.get_position().get_points().ravel().tolist()),
+                  tuple(ax.get_position(original=True).get_points().ravel().tolist())) for ax in fig.get_axes())
 
 
 def _laid_out(fig):
@@ -356,8 +357,8 @@ def _laid_out(fig):
             layouts[key] = _axes_places(fig)
         return renderer
     for ax, (active, original) in zip(fig.get_axes(), layouts[key]):
-        ax._set_position(Bbox.from_bounds(*original), which="original")
-        ax._set_position(Bbox.from_bounds(*active), which="active")
+        ax._set_position(Bbox(np.reshape(original, (2, 2))), which="original")
+        ax._set_position(Bbox(np.reshape(active, (2, 2))), which="active")
     return fig.canvas.get_renderer()
 
 

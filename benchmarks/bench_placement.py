@@ -84,7 +84,9 @@ def _run(tree: Path, cache: Path, name: str) -> float | None:
     env = dict(os.environ, PYTHONPATH=str(tree), OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1",
                MKL_NUM_THREADS="1", MPLBACKEND="Agg")
     done = subprocess.run([sys.executable, "-c", _CHILD, str(tree), str(cache), name], env=env, cwd=str(tree),
-                          capture_output=True, text=True, check=True)
+                          capture_output=True, text=True)
+    if done.returncode:
+        raise SystemExit(f"{tree}: {name} failed:\n{done.stderr}")
     out = done.stdout.strip()
     return float(out.splitlines()[-1]) if out else None
 
@@ -97,6 +99,7 @@ def main(argv=None):
     parser.add_argument("--cache", type=Path, default=None, help="folder of the results' pickles")
     args = parser.parse_args(argv)
     cache = args.cache or Path(tempfile.mkdtemp(prefix="bench_placement_"))
+    cache.mkdir(parents=True, exist_ok=True)
     trees = {"base": args.base.resolve(), "this": ROOT}
     pickles = {label: cache / f"{label}.pkl" for label in trees}
     for label, tree in trees.items():

@@ -7,8 +7,9 @@ layouts, 6.6 s of its 12-15 s of CPU). They now ask for every candidate box at o
 layout that would start where an earlier one started. Nothing may change: each batched test is
 checked here against the single test it replaces, on boxes and segments of every kind (touching,
 flat, vertical, degenerate, far) and on the curves of a real figure; the layout memo against the
-layouts it skips. The figures themselves were compared byte for byte (PNG at 150 dpi) with the base's: 42
-figures, the UCS maps of 7 examples (two stiffness ranges, SI and US) and 12 Campbell diagrams (benchmarks/bench_placement.py measures the time).
+layouts it skips. The figures themselves were compared byte for byte (PNG at 150 dpi) with the
+base's: 42 figures, the UCS maps of 7 examples (two stiffness ranges, SI and US) and 12 Campbell
+diagrams (benchmarks/bench_placement.py measures the time).
 """
 
 from __future__ import annotations

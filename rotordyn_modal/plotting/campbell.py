@@ -1121,10 +1121,9 @@ class _CampbellLabels:
         w, h = near[0][2] - near[0][0], near[0][3] - near[0][1]
         to_px = np.array([1 / self.to_u, 1 / self.to_v] * 2)
         clear_px = max(clear[0] / self.to_u, clear[1] / self.to_v)
-        grid = [tuple(b) for b in (np.array(boxes_around(u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v,
-                                                          _PAD_POINTS * self.points,
-                                                          clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT))
-                                      / to_px).tolist()]
+        grid = [tuple(b) for b in (boxes_around(u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v,
+                                                _PAD_POINTS * self.points, clear_px + _PAD_POINTS * self.points,
+                                                split=_ROW_SPLIT).array / to_px).tolist()]
         others = list(placed)
         others_array = np.asarray(others, float).reshape(-1, 4)      # (taken once: the checks run per box)
 
@@ -1173,9 +1172,9 @@ class _CampbellLabels:
             # boxes across the circle too, their leaders short and steep: between two circles on
             # one mode's line a box at a slant lies nearer the neighbour (counter_rotating's '490'
             # between circles 42 pixels either side)
-            across = [tuple(b) for b in (np.array(boxes_around(
+            across = [tuple(b) for b in (boxes_around(
                 u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v, _PAD_POINTS * self.points,
-                clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT, straddle=_ACROSS)) / to_px).tolist()]
+                clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT, straddle=_ACROSS).array / to_px).tolist()]
             # (above or below the circle, no curve through them but inside the circle)
             across = {b for b in across if distance(b) <= _MOST_COST * h / self.to_v
                       and (b[1] >= v + clear[1] or b[3] <= v - clear[1])}
@@ -1188,9 +1187,9 @@ class _CampbellLabels:
             # (0:15000:151) sits on mode 4 between modes 5 and 3, 6 and 8 pixels away; every
             # slanting leader crossed one of them, a leader straight up crosses mode 5 inside the
             # circle (its box beside the anchor was taken by the '1X compressor' label)
-            above = [tuple(b) for b in (np.array(boxes_around(
+            above = [tuple(b) for b in (boxes_around(
                 u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v, _PAD_POINTS * self.points,
-                clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT, straddle=_STRADDLE)) / to_px).tolist()]
+                clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT, straddle=_STRADDLE).array / to_px).tolist()]
             # (no curve through such a box but inside the circle: its own curves run on through it)
             box = first_free_box([b for b in above if distance(b) <= _MOST_COST * h / self.to_v], placed, gap,
                                  frame, obstacles=markers, allowed=lambda b: uncrossed(b) and self.curves.free(b, circle),
@@ -1232,7 +1231,7 @@ class _CampbellLabels:
         u, v = anchor[0] / self.to_u, anchor[1] / self.to_v
         w, h = size[0] / self.to_u, size[1] / self.to_v
         pad = _PAD_POINTS * self.points
-        boxes = np.array(boxes_around(u, v, w, h, pad, clear_px + pad, columns=_WIDE_COLUMNS, split=_ROW_SPLIT))
+        boxes = boxes_around(u, v, w, h, pad, clear_px + pad, columns=_WIDE_COLUMNS, split=_ROW_SPLIT).array
         far = np.hypot(np.maximum(np.maximum(boxes[:, 0] - u, u - boxes[:, 2]), 0.0),
                        np.maximum(np.maximum(boxes[:, 1] - v, _BELOW * (v - boxes[:, 3])), 0.0))
         scale = np.array([self.to_u, self.to_v] * 2)
@@ -1324,12 +1323,14 @@ class _CampbellLabels:
     def _marker_boxes(self):
         """Boxes (axes fraction) of the critical-speed markers inside the axes."""
         radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
-        boxes = []
-        for speed, freq in zip(*self.critical):
-            u, v = self.to_axes((speed, freq))
-            if 0 <= u <= 1 and 0 <= v <= 1:
-                boxes.append((u - radius_u, v - radius_v, u + radius_u, v + radius_v))
-        return boxes
+        if not len(self.critical[0]):
+            return []
+        # every point at once (the 60-rotor chain's 16,864 one by one took seconds), the same numbers
+        u, v = np.asarray(self.to_axes(np.column_stack(self.critical)), float).T
+        inside = (0 <= u) & (u <= 1) & (0 <= v) & (v <= 1)
+        u, v = u[inside], v[inside]
+        return list(zip((u - radius_u).tolist(), (v - radius_v).tolist(), (u + radius_u).tolist(),
+                        (v + radius_v).tolist()))
 
     def _place_critical(self, renderer, placed, markers):
         """Each critical speed's label beside its marker, else nearby with a leader line

@@ -151,11 +151,17 @@ def _place_labels(ax, labels, first=0, count=0):
     (:func:`._labels.place_point_labels`); ``labels``: (x, y, text, colour), most important first,
     the crossings' ``count`` from ``first`` on: those whose circles touch share one label
     (:func:`_touching`)."""
-    from ._labels import laid_out_renderer, place_point_labels
-
     if not labels:
         return
-    renderer = laid_out_renderer(ax.figure)
+    with _steady_layout(ax.figure):
+        _place_labels_laid_out(ax, labels, first, count)
+
+
+def _place_labels_laid_out(ax, labels, first, count):
+    """:func:`_place_labels` inside :func:`_steady_layout`."""
+    from ._labels import place_point_labels
+
+    renderer = _laid_out(ax.figure)
 
     def place(touching, pairs=(), broken=()):
         groups = [[k] for k in range(first)] + _touching(ax, labels[first:first + count], first, touching) \
@@ -285,7 +291,6 @@ def _names_its_own(ax, text, labels, crossings) -> bool:
     circle it names than any other crossing's circle, laid out at :data:`SAVED_DPI`."""
     from matplotlib.text import Text
 
-    from ._labels import laid_out_renderer
 
     first, count = crossings
     words = set(_words(text.get_text()))
@@ -294,7 +299,7 @@ def _names_its_own(ax, text, labels, crossings) -> bool:
         return bool(mine.any())
     centres = _circle_centres(ax, labels, first, count)
     with _at_saved_dpi(ax.figure):
-        renderer = laid_out_renderer(ax.figure)
+        renderer = _laid_out(ax.figure)
         text.update_positions(renderer)
         box = np.array(Text.get_window_extent(text, renderer).extents)
     distance = np.hypot(*(np.clip(centres, box[:2], box[2:]) - centres).T)
@@ -311,6 +316,50 @@ def _at_saved_dpi(fig):
         yield
     finally:
         fig.set_dpi(dpi)
+
+
+@contextmanager
+def _steady_layout(fig):
+    """Inside the block, :func:`_laid_out` runs the constrained layout of ``fig`` only for axes
+    places (and resolution and size) it has not started from before: the labels placed inside
+    the block stand inside the axes and change no margin, so a layout from where an earlier one
+    started ends where that one ended, and the axes are put there. The fan's map with every
+    bearing chosen was laid out 30 times (6.6 s of its 12-15 s of CPU), compressor_on_journals'
+    14 times; the places alternate between the two resolutions (the figure's and
+    :data:`SAVED_DPI`) and settle within a few runs."""
+    fig._ucs_layouts = {}
+    try:
+        yield
+    finally:
+        del fig._ucs_layouts
+
+
+def _axes_places(fig) -> tuple:
+    """Every axes' place in ``fig``: its corners (x0, y0, x1, y1) [figure fraction], as laid out
+    and as given (the corners themselves: bounds give x1 back as x0 + width, a bit off at times)."""
+    return tuple((tuple(ax.get_position().get_points().ravel().tolist()),
+                  tuple(ax.get_position(original=True).get_points().ravel().tolist())) for ax in fig.get_axes())
+
+
+def _laid_out(fig):
+    """:func:`._labels.laid_out_renderer`; inside :func:`_steady_layout`, where a layout at this
+    resolution and size started from these very axes places before, the axes are put where it
+    left them instead (the same layout again: nothing it reads has changed)."""
+    from matplotlib.transforms import Bbox
+
+    from ._labels import laid_out_renderer
+
+    layouts = getattr(fig, "_ucs_layouts", None)
+    key = (float(fig.dpi), tuple(float(v) for v in fig.get_size_inches()), _axes_places(fig))
+    if layouts is None or key not in layouts:
+        renderer = laid_out_renderer(fig)
+        if layouts is not None:
+            layouts[key] = _axes_places(fig)
+        return renderer
+    for ax, (active, original) in zip(fig.get_axes(), layouts[key]):
+        ax._set_position(Bbox(np.reshape(original, (2, 2))), which="original")
+        ax._set_position(Bbox(np.reshape(active, (2, 2))), which="active")
+    return fig.canvas.get_renderer()
 
 
 def _circle_centres(ax, labels, first, count) -> np.ndarray:
@@ -421,11 +470,10 @@ def _leader_lengths(ax, drawn) -> dict:
     :data:`SAVED_DPI`."""
     from matplotlib.text import Text
 
-    from ._labels import laid_out_renderer
 
     fig = ax.figure
     with _at_saved_dpi(fig):
-        renderer = laid_out_renderer(fig)
+        renderer = _laid_out(fig)
         out = {}
         for text in drawn:
             text.update_positions(renderer)
@@ -445,9 +493,8 @@ def _longest_leader(ax, drawn) -> float:
     """The longest leader of the labels ``drawn`` [points], from the text's box to its point."""
     from matplotlib.text import Text
 
-    from ._labels import laid_out_renderer
 
-    renderer = laid_out_renderer(ax.figure)
+    renderer = _laid_out(ax.figure)
     longest = 0.0
     for text in drawn:
         text.update_positions(renderer)
@@ -474,13 +521,13 @@ def _shorter_leaders(ax, drawn, points, members=None):
     nearer place stays where :func:`_place_labels` put it."""
     from matplotlib.text import Text
 
-    from ._labels import _drawn_segments, crosses_any, crosses_segments, laid_out_renderer
+    from ._labels import _drawn_segments, crosses_any, crosses_segments
 
     if not drawn:
         return
     fig = ax.figure
     with _at_saved_dpi(fig):
-        renderer = laid_out_renderer(fig)
+        renderer = _laid_out(fig)
         scale = SAVED_DPI / 72.0
         frame = ax.get_window_extent(renderer)
         segments = _drawn_segments(ax, [], (frame.x0, frame.y0, frame.x1, frame.y1))
@@ -543,13 +590,12 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests, group=None
     group = np.reshape(anchor if group is None else group, (-1, 2))
     own = np.hypot(*(centres[:, None] - group[None]).transpose(2, 0, 1)).min(axis=1) <= radius
     markers = np.column_stack([centres - radius - clear, centres + radius + clear])
-    for i in order:
-        place = np.r_[grid[i], grid[i] + (w, h)]
-        padded = place + (-clear, -clear, clear, clear)
-        if padded[0] < frame.x0 or padded[1] < frame.y0 or padded[2] > frame.x1 or padded[3] > frame.y1:
-            continue
-        if any(_overlap(padded, b) for b in others) or any(_overlap(padded, b) for b in markers):
-            continue
+    places = np.column_stack([grid[order], grid[order] + (w, h)])
+    padded_all = places + (-clear, -clear, clear, clear)
+    # inside the frame, off every other text and marker: every place at once
+    open_ = (padded_all[:, 0] >= frame.x0) & (padded_all[:, 1] >= frame.y0) & (padded_all[:, 2] <= frame.x1) \
+        & (padded_all[:, 3] <= frame.y1) & ~_overlaps_any(padded_all, others) & ~_overlaps_any(padded_all, markers)
+    for i, place, padded in zip(order[open_], places[open_], padded_all[open_]):
         if len(segments) and crosses_any(segments, [padded + (-line, -line, line, line)]):
             continue
         start = near[i]
@@ -580,6 +626,16 @@ def _leader_through(start, end, box) -> bool:
 
 def _overlap(a, b):
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+def _overlaps_any(boxes, others):
+    """Mask (n,): whether each of ``boxes`` (n, 4) overlaps any of ``others`` (:func:`_overlap`, each
+    pair at once)."""
+    if not len(others):
+        return np.zeros(len(boxes), bool)
+    a, b = boxes[:, None, :], np.asarray(others, float).reshape(1, -1, 4)
+    return np.any((a[..., 0] < b[..., 2]) & (b[..., 0] < a[..., 2]) & (a[..., 1] < b[..., 3]) & (b[..., 1] < a[..., 3]),
+                  axis=1)
 
 
 def _lead_to_nearest(ax, text, members, renderer):
@@ -616,11 +672,11 @@ def _crossing_leaders(ax, drawn, members, centres):
     cross a curve they only grazed there."""
     from matplotlib.text import Text
 
-    from ._labels import _drawn_segments, laid_out_renderer
+    from ._labels import _drawn_segments
 
     fig = ax.figure
     with _at_saved_dpi(fig):
-        renderer = laid_out_renderer(fig)
+        renderer = _laid_out(fig)
         frame = ax.get_window_extent(renderer)
         skip = [line for line in ax.get_lines() if not str(line.get_label())[:1].isdigit()]
         segments = _drawn_segments(ax, skip, (frame.x0, frame.y0, frame.x1, frame.y1))

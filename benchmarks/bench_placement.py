@@ -1,0 +1,122 @@
+"""Label placing: the CPU time of drawing the figures whose labels cost most, two source trees
+compared in one run (a base, e.g. ``git archive <commit> | tar -x -C /tmp/base``, against this
+tree).
+
+Figures (each ``result.plot()`` and ``savefig`` to PNG at 150 dpi, the analysis not timed):
+
+* ``ucs-fan-all``: fan_on_bearings' UCS map, every bearing chosen (1e5 .. 1e9 N/m, 41 values,
+  operating 1000 .. 3000 rpm), drawn in five test files;
+* ``ucs-plain``: compressor_on_journals' UCS map (1e5 .. 1e9 N/m, 41 values);
+* ``campbell-fan``: fan_on_bearings' Campbell diagram, 0 .. 9000 rpm at 121 speeds, orders 1, 2;
+* ``campbell-chain40``: the 40-rotor gear chain (``tests/test_large_machine_cli.chained_gear_toml``),
+  0 .. 4500 rpm at 22 speeds.
+
+Each drawing runs in a process of its own (one thread), the two trees in turn, ``--repeat``
+times; each process loads its tree's results from a pickle made once per tree (in
+``--cache``). Printed: each tree's min / median / max CPU seconds per figure and the ratio
+base / this tree (min, median, max over the pairs of one repeat).
+
+Run from the repository root::
+
+    python benchmarks/bench_placement.py --base /tmp/base [--repeat 5] [--figures ucs-fan-all,ucs-plain]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+FIGURES = ("ucs-fan-all", "ucs-plain", "campbell-fan", "campbell-chain40")
+
+_CHILD = r'''
+import io, os, pickle, sys, time, tomllib
+from pathlib import Path
+os.environ["OMP_NUM_THREADS"] = "1"
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+import rotordyn_modal as rdm
+
+tree, cache, name = Path(sys.argv[1]), Path(sys.argv[2]), sys.argv[3]
+examples = tree / "examples"
+
+
+def results():
+    fan = rdm.load_model(examples / "fan_on_bearings.toml")
+    out = {"ucs-fan-all": rdm.ucs_map(fan, np.geomspace(1e5, 1e9, 41),
+                                      bearings=["motor-DE", "motor-NDE", "fan-DE", "fan-NDE"],
+                                      operating=(1000.0 * np.pi / 30.0, 3000.0 * np.pi / 30.0)),
+           "ucs-plain": rdm.ucs_map(rdm.load_model(examples / "compressor_on_journals.toml"),
+                                    np.geomspace(1e5, 1e9, 41)),
+           "campbell-fan": rdm.campbell(fan, rdm.rpm(np.linspace(0.0, 9000.0, 121)), orders=(1, 2))}
+    sys.path.insert(0, str(tree / "tests"))
+    from test_large_machine_cli import chained_gear_toml
+    chain = rdm.Model.from_dict(tomllib.loads(chained_gear_toml(40, 40)), source="chain.toml")
+    out["campbell-chain40"] = rdm.campbell(chain, rdm.rpm(np.linspace(0.0, 4500.0, 22)))
+    return out
+
+
+if not cache.exists():
+    pickle.dump(results(), open(cache, "wb"))
+    sys.exit(0)
+result = pickle.load(open(cache, "rb"))[name]
+warm = plt.figure()
+warm.text(0.5, 0.5, "0123 mode")
+warm.savefig(io.BytesIO(), format="png")
+plt.close(warm)
+start = time.process_time()
+fig = result.plot()
+fig.savefig(io.BytesIO(), format="png", dpi=150)
+print(time.process_time() - start)
+'''
+
+
+def _run(tree: Path, cache: Path, name: str) -> float | None:
+    """CPU seconds of one drawing of ``name`` by the code of ``tree`` (None: the pickle made)."""
+    env = dict(os.environ, PYTHONPATH=str(tree), OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1",
+               MKL_NUM_THREADS="1", MPLBACKEND="Agg")
+    done = subprocess.run([sys.executable, "-c", _CHILD, str(tree), str(cache), name], env=env, cwd=str(tree),
+                          capture_output=True, text=True)
+    if done.returncode:
+        raise SystemExit(f"{tree}: {name} failed:\n{done.stderr}")
+    out = done.stdout.strip()
+    return float(out.splitlines()[-1]) if out else None
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--base", required=True, type=Path, help="the base source tree")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--figures", default=",".join(FIGURES))
+    parser.add_argument("--cache", type=Path, default=None, help="folder of the results' pickles")
+    args = parser.parse_args(argv)
+    cache = args.cache or Path(tempfile.mkdtemp(prefix="bench_placement_"))
+    cache.mkdir(parents=True, exist_ok=True)
+    trees = {"base": args.base.resolve(), "this": ROOT}
+    pickles = {label: cache / f"{label}.pkl" for label in trees}
+    for label, tree in trees.items():
+        if not pickles[label].exists():
+            _run(tree, pickles[label], FIGURES[0])
+    names = [n for n in args.figures.split(",") if n]
+    for name in names:
+        times = {label: [] for label in trees}
+        for _ in range(args.repeat):
+            for label, tree in trees.items():
+                times[label].append(_run(tree, pickles[label], name))
+        base, this = np.array(times["base"]), np.array(times["this"])
+        ratio = base / this
+        print(f"{name:18s} base {base.min():6.2f} {np.median(base):6.2f} {base.max():6.2f} s | "
+              f"this {this.min():6.2f} {np.median(this):6.2f} {this.max():6.2f} s | "
+              f"base/this {ratio.min():5.2f} {np.median(ratio):5.2f} {ratio.max():5.2f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()

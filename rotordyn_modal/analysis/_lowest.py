@@ -1182,10 +1182,13 @@ def _hermitian_form(stack):
     finer speeds six times more (``campbell._check_grids``), and BLAS's own threads on these small
     products only wait for a core on a shared machine (measured on ``rotor_example``, 21 speeds, load
     about 20: 57 ms of CPU a ``campbell(modes=12)`` of 111 ms, against 2.9 ms with one thread)."""
-    cached = stack.__dict__.get("_lowest_hermitian", False)
+    kept = getattr(stack, "constants", stack.__dict__)        # a small model's: shared by its stacks
+    cached = kept.get("_lowest_hermitian", False)
     if cached is False:
         with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
-            cached = stack.__dict__["_lowest_hermitian"] = _hermitian_form_made(stack)
+            cached = kept["_lowest_hermitian"] = _hermitian_form_made(stack)
+        for array in cached or ():
+            array.flags.writeable = False
     return cached
 
 

@@ -601,16 +601,27 @@ def model_constants(model) -> dict | None:
     variant or ``with_values`` is a new one), or None for a model of more than :data:`KEPT_DOF`
     coordinates. The :data:`KEPT_MODELS` most recently used models are kept (the dict holds the
     model: ids are not reused while it is kept)."""
-    if model.dofs.n > KEPT_DOF:
+    from .. import assembly
+
+    if model.dofs.n > KEPT_DOF or assembly.is_large(model):
         return None
     key = id(model)
     entry = _KEPT.pop(key, None)
-    if entry is None or entry[0] is not model:
-        entry = (model, {})
+    settings = _settings()
+    if entry is None or entry[0] is not model or entry[1].get("settings") != settings:
+        entry = (model, {"settings": settings})
     _KEPT[key] = entry
     while len(_KEPT) > KEPT_MODELS:
         del _KEPT[next(iter(_KEPT))]
     return entry[1]
+
+
+def _settings() -> tuple:
+    """The sizes that choose how a model's parts are made (sparse or dense matrices and whirl
+    forms): parts kept under other sizes are made again (the tests set them lower)."""
+    from .. import assembly
+
+    return (assembly.SPARSE_DOF, _pencils.SPARSE_SHAPES_DOF, _pencils.SPARSE_DOF, _whirl._COMPLEX_PRODUCT_DOF)
 
 
 def _arrays_of(value):

@@ -657,7 +657,8 @@ def _full_lowest(stack, speeds, count, progress=False):
         from .._progress import tqdm
 
         bar = tqdm(total=len(speeds), desc="lowest modes (full eigen-solve)", unit="speed", leave=False)
-    kept = _kept_full(stack) if stack.n_dof < DENSE_BELOW else None
+    small = stack.n_dof < DENSE_BELOW and 16 * len(speeds) * n_states * stack.n_dof <= _KEPT_REDUCTIONS_BYTES
+    kept = _kept_full(stack) if small else None
     try:
         for part in parts:
             chunk = speeds[part]
@@ -680,7 +681,8 @@ def _full_lowest(stack, speeds, count, progress=False):
 
 def _kept_full(stack) -> dict:
     """``{speed: (roots (m,), shapes (m, n))}`` of :func:`_full_lowest`'s solves of a small model
-    (below ``DENSE_BELOW`` coordinates) on ``stack``, kept on it: ``campbell``'s checks of its mode
+    (below ``DENSE_BELOW`` coordinates; a call of at most ``_KEPT_REDUCTIONS_BYTES`` of them) on
+    ``stack``, kept on it: ``campbell``'s checks of its mode
     links solve some sweep speeds again, for more roots (each speed's solve is its own: the same
     bits)."""
     return stack.__dict__.setdefault("_lowest_full", {})

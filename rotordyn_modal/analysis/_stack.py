@@ -42,13 +42,10 @@ class Stack:
 
     def __init__(self, models):
         self.models = list(models)
-        #: a small single model's speed-independent parts (its linear form, stacked matrices, mass
-        #: factor, whirl forms; ``_lowest``'s Hermitian form), shared by every stack of that model
-        #: object (:func:`model_constants`); else this stack's own
-        kept = model_constants(self.models[0]) if len(self.models) == 1 else None
-        self.constants = {} if kept is None else kept
-        self._shared_constants = kept is not None
-        first = self.constants.get("form")
+        # a small single model's speed-independent parts, shared by every stack of that model
+        # object (:func:`model_constants`); None: this stack's own (see :attr:`constants`)
+        self._kept = kept = model_constants(self.models[0]) if len(self.models) == 1 else None
+        first = None if kept is None else kept.get("form")
         if first is None:
             first = speed_linear_form(self.models[0])
             if kept is not None:
@@ -69,10 +66,11 @@ class Stack:
         self._whirl_sparse = None      # a large model's forms, sparse, made on first use
         # the constant parts stacked, made on first use: a large model's lowest modes and critical
         # speeds work on its sparse matrices (``sparse_constant``) and may never need them dense
-        self._stacked_parts = self.constants.get("parts")
-        self._factor = self.constants.get("factor")
-        self._whirl = self.constants.get("whirl")
-        self._whirl_stacked = self.constants.get("whirl_stacked")
+        kept = {} if kept is None else kept
+        self._stacked_parts = kept.get("parts")
+        self._factor = kept.get("factor")
+        self._whirl = kept.get("whirl")
+        self._whirl_stacked = kept.get("whirl_stacked")
         self._weighting = None   # how shapes are mass-weighted: see _modal_weighting
         #: whether a sweep's roots needed the polish of double precision's round-off (set by
         #: :func:`.campbell._refine_inexact`): the critical speeds are then refined on polished roots
@@ -91,6 +89,14 @@ class Stack:
     def __len__(self) -> int:
         return len(self.forms)
 
+    @property
+    def constants(self) -> dict:
+        """Where the speed-independent parts the lowest modes' route makes are kept (its Hermitian
+        form, its pencils' pattern): a small model's dict shared by every stack of that model object
+        (its linear form, stacked matrices, mass factor and whirl forms are there too,
+        :func:`model_constants`), else this stack's own ``__dict__``."""
+        return self.__dict__ if self._kept is None else self._kept
+
     def _constant_part(self, i: int) -> np.ndarray:
         """The forms' ``(M, C, G, K)[i]`` stacked (V, n, n), made on first use (a large model's
         from its sparse matrix, that part alone)."""
@@ -108,10 +114,10 @@ class Stack:
     def _keep(self, name: str, value):
         """Keep ``value`` among a kept model's constants (:func:`model_constants`), read-only (no
         caller writes into a stack's constant arrays: a later stack of the model shares them)."""
-        if self._shared_constants:
+        if self._kept is not None:
             for array in _arrays_of(value):
                 array.flags.writeable = False
-            self.constants[name] = value
+            self._kept[name] = value
 
     @property
     def M(self) -> np.ndarray:

@@ -65,14 +65,16 @@ def test_campbell_makes_the_hermitian_form_once_with_one_blas_thread(monkeypatch
 
 @pytest.mark.filterwarnings("ignore:.*interpolated with PCHIP")
 def test_hermitian_form_is_kept_per_stack():
-    """The same stack gives the same form (kept); another stack of the same model makes its own,
-    equal to it; a damped model (ROSS's compressor_example, damped bearings) has none (the state
+    """The same stack gives the same form (kept); another stack of the same small model shares it
+    (its constants are kept on the model, ross37), another model of the same description makes its
+    own, equal to it; a damped model (ROSS's compressor_example, damped bearings) has none (the state
     matrices' eigvals), kept as None too."""
     model = rdm.Model.from_dict(read_ross_rotor(ROTOR_EXAMPLE))
     stack = Stack([model])
     first = _lowest._hermitian_form(stack)
     assert _lowest._hermitian_form(stack) is first
-    other = _lowest._hermitian_form(Stack([model]))
+    assert _lowest._hermitian_form(Stack([model])) is first
+    other = _lowest._hermitian_form(Stack([rdm.Model.from_dict(read_ross_rotor(ROTOR_EXAMPLE))]))
     assert other is not first
     for mine, theirs in zip(first, other):
         np.testing.assert_array_equal(mine, theirs)

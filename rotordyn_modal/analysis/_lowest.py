@@ -657,10 +657,18 @@ def _full_lowest(stack, speeds, count, progress=False):
         from .._progress import tqdm
 
         bar = tqdm(total=len(speeds), desc="lowest modes (full eigen-solve)", unit="speed", leave=False)
+    small = stack.n_dof < DENSE_BELOW and 16 * len(speeds) * n_states * stack.n_dof <= _KEPT_REDUCTIONS_BYTES
+    kept = _kept_full(stack) if small else None
     try:
         for part in parts:
             chunk = speeds[part]
-            lam, phi = stack.solve(stack.sweep(chunk)[0], np.zeros(len(chunk), int))
+            if kept is not None and all(float(speed) in kept for speed in chunk):
+                lam = np.array([kept[float(speed)][0] for speed in chunk])
+                phi = np.array([kept[float(speed)][1] for speed in chunk])
+            else:
+                lam, phi = stack.solve(stack.sweep(chunk)[0], np.zeros(len(chunk), int))
+                if kept is not None:
+                    kept.update((float(speed), (lam[i], phi[i])) for i, speed in enumerate(chunk))
             values[part], shapes[part] = lowest_of(lam, phi, k)
             del lam, phi
             if bar is not None:
@@ -669,6 +677,15 @@ def _full_lowest(stack, speeds, count, progress=False):
         if bar is not None:
             bar.close()
     return values, shapes
+
+
+def _kept_full(stack) -> dict:
+    """``{speed: (roots (m,), shapes (m, n))}`` of :func:`_full_lowest`'s solves of a small model
+    (below ``DENSE_BELOW`` coordinates; a call of at most ``_KEPT_REDUCTIONS_BYTES`` of them) on
+    ``stack``, kept on it: ``campbell``'s checks of its mode
+    links solve some sweep speeds again, for more roots (each speed's solve is its own: the same
+    bits)."""
+    return stack.__dict__.setdefault("_lowest_full", {})
 
 
 def lowest_of(lam, phi, count):
@@ -932,8 +949,22 @@ def _dense_lowest(stack, speeds, count):
     -------
     eigenvalues : ndarray, shape (S, count), complex; shapes : ndarray, shape (S, count, n)
     """
-    upper, whole = _eigensolve.upper_eigenvalues(stack.sweep(speeds)[0])
+    kept = _kept_upper(stack)
+    new = np.array([p for p, speed in enumerate(speeds) if float(speed) not in kept], dtype=int)
+    if len(new):
+        upper, whole = _eigensolve.upper_eigenvalues(stack.sweep(speeds[new])[0])
+        kept.update((float(speeds[p]), (upper[i], bool(whole[i]))) for i, p in enumerate(new))
+    upper = np.array([kept[float(speed)][0] for speed in speeds]).reshape(len(speeds), -1)
+    whole = np.array([kept[float(speed)][1] for speed in speeds], dtype=bool)
     return _lowest_of_upper(stack, speeds, count, upper, whole)
+
+
+def _kept_upper(stack) -> dict:
+    """``{speed: (upper roots (m,), solved whole)}`` of :func:`_dense_lowest`'s ``eigvals`` at the
+    speeds solved on ``stack``, kept on it (``m`` roots of a model below ``DENSE_BELOW``
+    coordinates: a few kB a speed): ``campbell``'s checks of its mode links solve some sweep
+    speeds again, for more roots, from the same eigenvalues (each row's alone: the same bits)."""
+    return stack.__dict__.setdefault("_lowest_upper", {})
 
 
 def _small_lowest(stack, speeds, count):
@@ -1181,10 +1212,13 @@ def _hermitian_form(stack):
     finer speeds six times more (``campbell._check_grids``), and BLAS's own threads on these small
     products only wait for a core on a shared machine (measured on ``rotor_example``, 21 speeds, load
     about 20: 57 ms of CPU a ``campbell(modes=12)`` of 111 ms, against 2.9 ms with one thread)."""
-    cached = stack.__dict__.get("_lowest_hermitian", False)
+    kept = getattr(stack, "constants", stack.__dict__)        # a small model's: shared by its stacks
+    cached = kept.get("_lowest_hermitian", False)
     if cached is False:
         with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
-            cached = stack.__dict__["_lowest_hermitian"] = _hermitian_form_made(stack)
+            cached = kept["_lowest_hermitian"] = _hermitian_form_made(stack)
+        for array in cached or ():
+            array.flags.writeable = False
     return cached
 
 

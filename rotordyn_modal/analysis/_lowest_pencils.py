@@ -59,16 +59,19 @@ class _Pencils:
             self.M, self.C, self.G, self.K = form.matrices.M, form.matrices.C, stack.G[0], form.matrices.K
         n = self.M.shape[0]
         self.rows, self.cols, self.kb, self.cb = self._speed_entries(stack, speeds)
-        # the sparse LU's pattern: every entry of any of them, column by column (compressed-column order)
-        cols, rows = _pattern(self.M, self.C, self.G, self.K, self.rows, self.cols)
         self._values = None       # the matrices' entries on the pattern, made on first use
         self._layout = None       # the same in band storage (:meth:`_band_layout`), made on first use
-        self.pattern = rows, cols
-        self.indptr = np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=n))]).astype(np.int32)
-        self.indices = rows.astype(np.int32)
-        # each bearing entry's place on the pattern (its keys col * n + row ascend)
-        self.bearing_at = np.searchsorted(cols * n + rows, self.cols * n + self.rows)
-        self.band = _band(rows, cols, n)
+        # the pattern's parts and the sparse products' matrices depend on the model alone (not on the
+        # speeds): made once per stack (a small model's once, :func:`._stack.model_constants`)
+        kept = getattr(stack, "constants", stack.__dict__).setdefault("_lowest_patterns", {})
+        key = (type(self).__name__, n, self.rows.tobytes(), self.cols.tobytes())
+        if key not in kept:
+            kept[key] = self._pattern_parts(n)
+            for value in kept[key].values():
+                for array in (value if isinstance(value, tuple) else (value,)):
+                    if isinstance(array, np.ndarray):
+                        array.flags.writeable = False
+        self.__dict__.update(kept[key])
         # omega_max^2: the largest ratio of the stiffness's diagonal (with the bearings' at any speed) to the mass's
         diagonal = np.abs(_diagonal(self.K)).copy()
         on = self.rows == self.cols
@@ -76,13 +79,28 @@ class _Pencils:
             np.maximum.at(diagonal, self.rows[on], np.abs(_diagonal(self.K)[self.rows[on]] + self.kb[:, on]).max(axis=0))
         mass = _diagonal(self.M)
         self.scale = float(np.max(diagonal / np.where(mass > 0, mass, np.inf)))
-        # the products Q'(s) x: sparse (a dense complex product of n x n per root cost more than the solves)
-        self.sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
-        self._stacked = scipy.sparse.vstack(self.sparse, format="csr")
         self._stiffness = None        # M, C, G and K stacked as CSR, made on first use (:meth:`residual_times`)
-        # each bearing entry's row, (n, nb): the bearings' terms of the rows' products, scattered
-        self.scatter = scipy.sparse.csr_matrix((np.ones(len(self.rows)), (self.rows, np.arange(len(self.rows)))),
-                                               shape=(n, len(self.rows)))
+
+    def _pattern_parts(self, n) -> dict:
+        """The attributes that follow from the matrices and the bearing entries' places alone:
+        the sparse LU's pattern (every entry of any of them, column by column: compressed-column
+        order) and its ``indptr``, ``indices``, each bearing entry's place on it, the band, and the
+        sparse matrices of the products ``Q'(s) x`` (a dense complex product of n x n per root cost
+        more than the solves) with the bearings' scatter (n, nb)."""
+        cols, rows = _pattern(self.M, self.C, self.G, self.K, self.rows, self.cols)
+        sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
+        return {
+            "pattern": (rows, cols),
+            "indptr": np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=n))]).astype(np.int32),
+            "indices": rows.astype(np.int32),
+            # its keys col * n + row ascend
+            "bearing_at": np.searchsorted(cols * n + rows, self.cols * n + self.rows),
+            "band": _band(rows, cols, n),
+            "sparse": sparse,
+            "_stacked": scipy.sparse.vstack(sparse, format="csr"),
+            "scatter": scipy.sparse.csr_matrix((np.ones(len(self.rows)), (self.rows, np.arange(len(self.rows)))),
+                                               shape=(n, len(self.rows))),
+        }
 
     def _speed_entries(self, stack, speeds):
         """The entries of K and C that change with the speed (the bearings'): rows (nb,), columns

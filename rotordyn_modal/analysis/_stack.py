@@ -42,7 +42,14 @@ class Stack:
 
     def __init__(self, models):
         self.models = list(models)
-        first = speed_linear_form(self.models[0])
+        # a small single model's speed-independent parts, shared by every stack of that model
+        # object (:func:`model_constants`); None: this stack's own (see :attr:`constants`)
+        self._kept = kept = model_constants(self.models[0]) if len(self.models) == 1 else None
+        first = None if kept is None else kept.get("form")
+        if first is None:
+            first = speed_linear_form(self.models[0])
+            if kept is not None:
+                kept["form"] = first
         # variants with the first model's very bodies share its M, G, M^-1 and whirl forms
         self.forms = [first] + [speed_linear_form(m, like=first) for m in self.models[1:]]
         shapes = {(f.n_dof, f.n_states) for f in self.forms}
@@ -59,7 +66,11 @@ class Stack:
         self._whirl_sparse = None      # a large model's forms, sparse, made on first use
         # the constant parts stacked, made on first use: a large model's lowest modes and critical
         # speeds work on its sparse matrices (``sparse_constant``) and may never need them dense
-        self._stacked_parts = None
+        kept = {} if kept is None else kept
+        self._stacked_parts = kept.get("parts")
+        self._factor = kept.get("factor")
+        self._whirl = kept.get("whirl")
+        self._whirl_stacked = kept.get("whirl_stacked")
         self._weighting = None   # how shapes are mass-weighted: see _modal_weighting
         #: whether a sweep's roots needed the polish of double precision's round-off (set by
         #: :func:`.campbell._refine_inexact`): the critical speeds are then refined on polished roots
@@ -78,6 +89,14 @@ class Stack:
     def __len__(self) -> int:
         return len(self.forms)
 
+    @property
+    def constants(self) -> dict:
+        """Where the speed-independent parts the lowest modes' route makes are kept (its Hermitian
+        form, its pencils' pattern): a small model's dict shared by every stack of that model object
+        (its linear form, stacked matrices, mass factor and whirl forms are there too,
+        :func:`model_constants`), else this stack's own ``__dict__``."""
+        return self.__dict__ if self._kept is None else self._kept
+
     def _constant_part(self, i: int) -> np.ndarray:
         """The forms' ``(M, C, G, K)[i]`` stacked (V, n, n), made on first use (a large model's
         from its sparse matrix, that part alone)."""
@@ -89,7 +108,16 @@ class Stack:
                 self._stacked_parts[i] = sparse[i].toarray()[None]
             else:
                 self._stacked_parts = [_stacked(parts) for parts in zip(*(f.matrices for f in self.forms))]
+            self._keep("parts", self._stacked_parts)
         return self._stacked_parts[i]
+
+    def _keep(self, name: str, value):
+        """Keep ``value`` among a kept model's constants (:func:`model_constants`), read-only (no
+        caller writes into a stack's constant arrays: a later stack of the model shares them)."""
+        if self._kept is not None:
+            for array in _arrays_of(value):
+                array.flags.writeable = False
+            self._kept[name] = value
 
     @property
     def M(self) -> np.ndarray:
@@ -138,6 +166,7 @@ class Stack:
             whirl = [_whirl.whirl_forms(self.models[0])]
             whirl += [whirl[0] if same_inertia(self.models[0], m) else _whirl.whirl_forms(m) for m in self.models[1:]]
             self._whirl = _whirl.WhirlForms(*(_stacked(parts) for parts in zip(*whirl)))
+            self._keep("whirl", self._whirl)
         return self._whirl
 
     @property
@@ -161,6 +190,7 @@ class Stack:
         if self._factor is None:
             with _batches.one_blas_thread(72 * self.n_dof ** 2):     # faster than BLAS's threads
                 self._factor = np.linalg.cholesky(self.M[:1] if self.shared_mass else self.M)
+            self._keep("factor", self._factor)
         return self._factor
 
     @property
@@ -351,6 +381,7 @@ class Stack:
                                        for v in range(1 if self.shared_whirl else len(self))]
             else:
                 self._whirl_stacked = _whirl.stacked_forms(self.whirl)
+            self._keep("whirl_stacked", self._whirl_stacked)
         for variant, part in _variant_parts(variants, 160 * shapes[0].size):
             stacked = self._whirl_stacked[0 if self.shared_whirl else variant]
             out[part] = _whirl.whirl_ratios(shapes[part], None, speeds[part], stacked)
@@ -554,6 +585,58 @@ def _variant_parts(variants, item_bytes: int):
     return [(int(variants[start]), slice(start + part.start, start + part.stop))
             for start, stop in zip(ends[:-1], ends[1:]) if stop > start
             for part in _batches.chunk_slices(stop - start, item_bytes, budget=_batches._PART_BYTES)]
+
+
+#: models up to this many coordinates keep their speed-independent parts between analyses
+#: (:func:`model_constants`): at most a few MB each. ROSS's ``Rotor`` keeps its ``M0``, ``K0`` and
+#: ``G0`` the same way; a small model's Campbell diagram of 21 speeds spent a fifth of its time
+#: building them again (rotor_example: 3 of 15 ms)
+KEPT_DOF = 100
+
+#: how many models keep their constants at once (the most recently used): each is held, with its
+#: model, until it is pushed out
+KEPT_MODELS = 4
+
+#: ``{id(model): (model, constants)}``, the most recently used last
+_KEPT: dict = {}
+
+
+def model_constants(model) -> dict | None:
+    """The dict of speed-independent parts a small model's :class:`Stack` shares with every later
+    stack of the very same model object (a model is never changed once validated: a study's
+    variant or ``with_values`` is a new one), or None for a model of more than :data:`KEPT_DOF`
+    coordinates. The :data:`KEPT_MODELS` most recently used models are kept (the dict holds the
+    model: ids are not reused while it is kept)."""
+    from .. import assembly
+
+    if model.dofs.n > KEPT_DOF or assembly.is_large(model):
+        return None
+    key = id(model)
+    entry = _KEPT.pop(key, None)
+    settings = _settings()
+    if entry is None or entry[0] is not model or entry[1].get("settings") != settings:
+        entry = (model, {"settings": settings})
+    _KEPT[key] = entry
+    while len(_KEPT) > KEPT_MODELS:
+        del _KEPT[next(iter(_KEPT))]
+    return entry[1]
+
+
+def _settings() -> tuple:
+    """The sizes that choose how a model's parts are made (sparse or dense matrices and whirl
+    forms): parts kept under other sizes are made again (the tests set them lower)."""
+    from .. import assembly
+
+    return (assembly.SPARSE_DOF, _pencils.SPARSE_SHAPES_DOF, _pencils.SPARSE_DOF, _whirl._COMPLEX_PRODUCT_DOF)
+
+
+def _arrays_of(value):
+    """The numpy arrays of ``value``: an array, or (nested) lists and tuples of them."""
+    if isinstance(value, np.ndarray):
+        return [value]
+    if isinstance(value, (list, tuple)):
+        return [array for item in value for array in _arrays_of(item)]
+    return []
 
 
 def _stacked(arrays) -> np.ndarray:

@@ -297,6 +297,7 @@ def _along_the_line(ax, label, others, fontsize, renderer, placed, curves, frame
     turned = {} if turned is None else turned
     others = [np.asarray(o.paths[0], float) * size for o in others if o.paths]
     own = [np.asarray(path, float) * size for path in label.paths]
+    own_segments, other_segments = [_Segments(p) for p in own], [_Segments(p) for p in others]
     sides = []
     for side in (1.0, -1.0):
         line = max(own, key=lambda p: side * p[0, 0])       # the outermost of its lines on that side
@@ -318,10 +319,8 @@ def _along_the_line(ax, label, others, fontsize, renderer, placed, curves, frame
         ok = np.all((candidates[..., 0] >= inner[0]) & (candidates[..., 0] <= inner[2])
                     & (candidates[..., 1] >= inner[1]) & (candidates[..., 1] <= inner[3]), axis=1)
         ok &= outlines_apart(candidates, obstacles, 2.0 * gap)
-        for k in _free_in_order(curves, candidates, np.nonzero(ok)[0], size):
-            centre = candidates[k].mean(axis=0)
-            mine = min(_distance_to(path, centre) for path in own)
-            if all(mine < _distance_to(path, centre) for path in others):
+        for k in _nearest_own_in_order(_free_chunks(curves, candidates, np.nonzero(ok)[0], size), candidates,
+                                       own_segments, other_segments):
                 box = tuple(float(c) for c in np.concatenate([candidates[k].min(axis=0), candidates[k].max(axis=0)])
                             / np.tile(size, 2))
                 placed.append(box)
@@ -381,6 +380,46 @@ def _parallel(point, down, normal, steps, length, height, gap):
     start = point + steps[:, None] * down + gap * normal
     return np.stack([start, start + length * down, start + length * down + height * normal,
                      start + height * normal], axis=1)
+
+
+class _Segments:
+    """The segments of a polyline (n, 2) [pixels], for :func:`_distance_to` from many points at
+    once, with the same arithmetic point by point (so the same floats)."""
+
+    def __init__(self, path):
+        self.a = path[:-1]
+        self.ab = path[1:] - self.a
+        self.square = np.maximum(np.einsum("ij,ij->i", self.ab, self.ab), 1e-12)
+
+    def distances(self, points):
+        """Distance (k,) [pixels] from each of ``points`` (k, 2) to the polyline."""
+        t = np.clip(np.einsum("kij,ij->ki", points[:, None, :] - self.a, self.ab) / self.square, 0.0, 1.0)
+        gaps = self.a + t[..., None] * self.ab - points[:, None, :]
+        return np.min(np.hypot(gaps[..., 0], gaps[..., 1]), axis=1)
+
+
+def _free_chunks(curves, candidates, indices, size):
+    """:func:`_free_in_order` a chunk at a time: arrays of indices, in order."""
+    for start in range(0, len(indices), _OUTLINE_CHUNK):
+        part = indices[start:start + _OUTLINE_CHUNK]
+        yield part[curves.free_outlines(candidates[part] / size)]
+
+
+def _nearest_own_in_order(chunks, candidates, own, others):
+    """The indices (in order) of ``candidates`` (K, 4, 2) [pixels] from ``chunks`` whose centre
+    lies nearer the nearest of the ``own`` polylines (:class:`_Segments`) than every one of
+    ``others``: a chunk's candidates against one other line at a time, only those still in."""
+    for part in chunks:
+        if not len(part):
+            continue
+        centres = candidates[part].mean(axis=1)
+        mine = np.min([o.distances(centres) for o in own], axis=0)
+        alive = np.ones(len(part), bool)
+        for other in others:
+            alive[alive] = mine[alive] < other.distances(centres[alive])
+            if not alive.any():
+                break
+        yield from part[alive]
 
 
 def _distance_to(path, point) -> float:
@@ -1162,12 +1201,14 @@ def _overlap(a, b, gap_u, gap_v):
     return a[0] < b[2] + gap_u and b[0] < a[2] + gap_u and a[1] < b[3] + gap_v and b[1] < a[3] + gap_v
 
 
-def exits_of_orders(orders, lines, slopes, x_limits, top, bottom=0.0, to_axes=None):
+def exits_of_orders(orders, lines, slopes, x_limits, top, bottom=0.0, to_axes=None, to_axes_many=None):
     """:class:`EdgeLabel` of every order line ``f = slope |x|``.
 
     ``lines`` is a list of (name, multiplier, colour), one per source; ``slopes[i][o]`` the
     slope of line ``i``'s order ``orders[o]`` [Hz per unit of the plotted speed]; ``bottom`` and ``to_axes`` as
-    for :func:`line_exit`. Lines of several sources that coincide (twin rotors at one speed,
+    for :func:`line_exit`; ``to_axes_many``, optional, the same map for arrays ``(x (n,), f (n,))
+    -> (n, 2)``, with the same floats point by point (the lines' paths in one call each, not 200).
+    Lines of several sources that coincide (twin rotors at one speed,
     a rotor's 2X on another's 1X) get one label naming them all, in the colour of the one
     drawn last (on top, the one seen): ``1X upper, lower``, ``2X motor = 1X fan``.
     """
@@ -1175,7 +1216,7 @@ def exits_of_orders(orders, lines, slopes, x_limits, top, bottom=0.0, to_axes=No
     for slope, members in _coinciding_orders(orders, lines, slopes):
         exit_ = line_exit(slope, x_limits, top, bottom, to_axes)
         if exit_ is not None:
-            path = _line_path(slope, x_limits, top, bottom, to_axes, exit_[3])
+            path = _line_path(slope, x_limits, top, bottom, to_axes, exit_[3], to_axes_many)
             back = _back_along(slope, x_limits, top, bottom, to_axes, exit_[3]) if exit_[0] != "top" \
                 else _down_from_top(path)
             labels.append(EdgeLabel(*_order_words(members), members[-1][2], *exit_, back=back,
@@ -1187,9 +1228,10 @@ def exits_of_orders(orders, lines, slopes, x_limits, top, bottom=0.0, to_axes=No
 _PATH_SAMPLES, _DOWN_STEPS = 200, 25
 
 
-def _line_path(slope, x_limits, top, bottom, to_axes, direction):
+def _line_path(slope, x_limits, top, bottom, to_axes, direction, to_axes_many=None):
     """Points (u, v) of ``f = slope |x|`` inside the box, from its far end toward ``x = 0``
-    (geometric steps where the box's bottom is above 0: a logarithmic axis)."""
+    (geometric steps where the box's bottom is above 0: a logarithmic axis); ``to_axes_many``
+    (see :func:`exits_of_orders`) maps them all at once."""
     lo, hi = x_limits
     far = min(hi, top / slope) if direction > 0 else max(lo, -top / slope)
     near_limit = max(lo, 0.0) if direction > 0 else min(hi, 0.0)
@@ -1199,6 +1241,8 @@ def _line_path(slope, x_limits, top, bottom, to_axes, direction):
     x = np.geomspace(far, near, _PATH_SAMPLES) if near != 0 else np.linspace(far, near, _PATH_SAMPLES)
     if to_axes is None:
         points = [((a - lo) / (hi - lo), (slope * abs(a) - bottom) / (top - bottom)) for a in x]
+    elif to_axes_many is not None:
+        points = np.asarray(to_axes_many(x, np.array([slope * abs(a) for a in x])), float).tolist()
     else:
         points = [to_axes(a, slope * abs(a)) for a in x]
     return tuple((float(u), float(v)) for u, v in points)

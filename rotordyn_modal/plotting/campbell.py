@@ -939,7 +939,8 @@ class _CampbellLabels:
         ax = self.ax
         bottom, top = ax.get_ylim()
         exits = exits_of_orders(self.result.orders, self.lines, self.slopes, ax.get_xlim(), top, bottom,
-                                lambda x, f: tuple(self.to_axes((x, f))))
+                                lambda x, f: tuple(self.to_axes((x, f))),
+                                lambda x, f: self.to_axes(np.column_stack([x, f])))
         taken = edge_label_boxes(ax, exits, _FONT, renderer, placed, self.curves, along=True, smaller=smaller)
         for text, item in zip(self.order_texts, taken + [None] * (len(self.order_texts) - len(taken))):
             if item is None:
@@ -1540,6 +1541,12 @@ def _grouped_beside(targets, height, gap):
     pitch = height + gap
     while True:
         low, high = np.array([targets[g[0]] for g in groups]), np.array([targets[g[-1]] for g in groups])
+        if len(groups) > 1 and len(groups) * pitch > 1.0:
+            # too many for the column: the neighbours spanning least share a label, wherever the
+            # labels would stand (the 40-rotor chain's first 420 merges stacked none)
+            j = int(np.argmin(high[1:] - low[:-1]))
+            groups[j:j + 2] = [groups[j] + groups[j + 1]]
+            continue
         wanted = 0.5 * (low + high)
         centres = column_positions(wanted, [height] * len(groups), 0.0, 1.0, gap=gap)
         shift = np.abs(centres - wanted)

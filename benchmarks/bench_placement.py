@@ -7,6 +7,8 @@ Figures (each ``result.plot()`` and ``savefig`` to PNG at 150 dpi, the analysis 
 * ``ucs-fan-all``: fan_on_bearings' UCS map, every bearing chosen (1e5 .. 1e9 N/m, 41 values,
   operating 1000 .. 3000 rpm), drawn in five test files;
 * ``ucs-plain``: compressor_on_journals' UCS map (1e5 .. 1e9 N/m, 41 values);
+* ``ucs-fan-e10``: fan_on_bearings' UCS map (1e5 .. 1e10 N/m, 31 values), the figure of
+  ``tests/test_ucs_map.py::test_figure_writes_every_crossing_and_name_clear_of_curves_markers_and_each_other``;
 * ``campbell-fan``: fan_on_bearings' Campbell diagram, 0 .. 9000 rpm at 121 speeds, orders 1, 2;
 * ``campbell-chain40``: the 40-rotor gear chain (``tests/test_large_machine_cli.chained_gear_toml``),
   0 .. 4500 rpm at 22 speeds.
@@ -33,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-FIGURES = ("ucs-fan-all", "ucs-plain", "campbell-fan", "campbell-chain40")
+FIGURES = ("ucs-fan-all", "ucs-plain", "ucs-fan-e10", "campbell-fan", "campbell-chain40")
 
 _CHILD = r'''
 import io, os, pickle, sys, time, tomllib
@@ -56,6 +58,7 @@ def results():
                                       operating=(1000.0 * np.pi / 30.0, 3000.0 * np.pi / 30.0)),
            "ucs-plain": rdm.ucs_map(rdm.load_model(examples / "compressor_on_journals.toml"),
                                     np.geomspace(1e5, 1e9, 41)),
+           "ucs-fan-e10": rdm.ucs_map(fan, np.geomspace(1e5, 1e10, 31)),
            "campbell-fan": rdm.campbell(fan, rdm.rpm(np.linspace(0.0, 9000.0, 121)), orders=(1, 2))}
     sys.path.insert(0, str(tree / "tests"))
     from test_large_machine_cli import chained_gear_toml

@@ -213,6 +213,8 @@ def _bearing_sag_lines(model, units: str = "si") -> list[str]:
     whatever the speed and load (at rest on the shell, running at ``c eps`` with ``eps < 1``), far
     below :data:`SAG_LIMIT`, so it stands on its film as a stiff spring (:func:`_static_stiffness`)
     and the check sees what else deflects: pedestals, another rotor's bearings, tables."""
+    if all(b.coefficients.kind == "journal" and b.pedestal is None for b in model.bearings):
+        return []                   # nothing but films, each within its clearance
     stiffness = _static_stiffness(model)
     q = static_solution(stiffness, weight_force(model))
     if q is None:

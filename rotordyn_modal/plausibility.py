@@ -6,7 +6,7 @@ ms). :func:`implausible` looks at the model as a whole and says what it finds, o
 each (``load_model`` warns with them, ``check`` prints them; docs/model-file.md, "Warnings"):
 
 * the machine's static sag on its suspensions under gravity, or its lowest mode on them;
-* a rotor's sag in its bearings, or a rigid-body mode of a rotor in its bearings (constant
+* a rotor's sag in its bearings, a journal's given load far from its share of the weight, or a rigid-body mode of a rotor in its bearings (constant
   bearings at rest, speed tables at their lowest speed, journal films at light load);
 * a long journal bearing, mount or bearing points far from their body, a mount matrix typed as
   one triangle, a slow Maxwell branch, a flexible rotor's sizes and materials, a wide close
@@ -28,12 +28,12 @@ from .elements._bearing_validation import LONG_JOURNAL
 from .elements.bearings import light_load_stiffness
 from .linear_system import static_solution
 from .model._table import and_others, visible
-from .model.geometry import shift_matrix
+from .model.geometry import shift_matrix, transverse_axes
 from .stiffness_spread import spread_lines
 from .units import to_system, unit_label
 
 __all__ = ["implausible", "SAG_LIMIT", "SAG_CHECK_DOF", "LOWEST_MOUNT_FREQUENCY", "CLEARANCE_WARN", "SLOW_MAXWELL",
-           "FAR_POINT"]
+           "FAR_POINT", "LOAD_FACTOR", "LEAST_LOAD_SHARE"]
 
 
 #: static sag [m] of a suspension point under the machine's weight above which a model draws a
@@ -59,9 +59,12 @@ def implausible(model, units: str = "si") -> list[str]:
       suspensions that do not hold the weight at all; without gravity, or when the sag is
       plausible, a mode of the machine on its suspensions below :data:`LOWEST_MOUNT_FREQUENCY`
       (unrestrained directions, frequency zero, are not counted: ``check`` notes them).
-    * Without such a sag line, a rotor in its constant bearings under ``gravity`` deflecting more
-      than :data:`SAG_LIMIT` at a bearing point (:func:`_bearing_sag_lines`; models of at most
-      :data:`SAG_CHECK_DOF` coordinates).
+    * Without such a sag line, a rotor in its bearings under ``gravity`` deflecting more than
+      :data:`SAG_LIMIT` at a bearing point (:func:`_bearing_sag_lines`: speed tables at their
+      lowest speed, journals on their films, which hold them within their clearance; models of
+      at most :data:`SAG_CHECK_DOF` coordinates).
+    * A journal bearing's given ``load`` more than :data:`LOAD_FACTOR` times off its share of its
+      rotor's weight under ``gravity`` (:func:`_journal_load_lines`).
     * A journal bearing longer than :data:`~rotordyn_modal.elements._bearing_validation.LONG_JOURNAL`
       diameters (short-bearing theory loses accuracy there).
     * A station of a flexible rotor placed at another's node, closer than
@@ -107,6 +110,12 @@ def implausible(model, units: str = "si") -> list[str]:
             lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
+    if model.bearings and np.any(model.gravity):
+        try:
+            with np.errstate(all="ignore"):
+                lines += _journal_load_lines(model, units)
+        except (np.linalg.LinAlgError, ValueError):
+            pass
     # a mass far too large (g typed as kg) makes the radii of gyration small too: said once, by the sag
     far = [] if sag or held else _far_point_lines(model)
     return lines + far + _circulatory_mount_lines(model) + _slow_maxwell_lines(model) + _merge_lines(model) \
@@ -194,29 +203,162 @@ def _sag_line(model, units: str = "si") -> str:
 
 def _bearing_sag_lines(model, units: str = "si") -> list[str]:
     """The warning about a rotor's static deflection in its bearings under gravity, or none: the
-    relative motion at each bearing point in the static solution ``K q = weight`` of the
-    constant supports (a model with speed-dependent bearings, whose static position is their
-    film's, is left to its analyses). Over :data:`SAG_LIMIT` a bearing stiffness in N/mm given as
-    N/m, a mass in g given as kg, or a gravity in mm/s^2 is the likely cause (the suspensions'
-    own check, :func:`_sag_line`, sees only the stator)."""
-    if any(b.coefficients.kind != "constant" for b in model.bearings):
-        return []
-    stiffness, _ = constant_stiffness_damping(model)
+    motion of the rotor at each bearing point relative to the stator in the static solution
+    ``K q = weight`` (:func:`_static_stiffness`): across the bearing and its pedestal's settling
+    on its springs, over :data:`SAG_LIMIT`. A bearing stiffness in N/mm given as N/m (a speed
+    table's too, or a pedestal's), a mass in g given as kg, or a gravity in mm/s^2 is the likely
+    cause (the suspensions' own check, :func:`_sag_line`, sees only the stator).
+
+    A plain journal bearing's own deflection is not named: its journal sits inside its clearance
+    whatever the speed and load (at rest on the shell, running at ``c eps`` with ``eps < 1``), far
+    below :data:`SAG_LIMIT`, so it stands on its film as a stiff spring (:func:`_static_stiffness`)
+    and the check sees what else deflects: pedestals, another rotor's bearings, tables."""
+    if all(b.coefficients.kind == "journal" and b.pedestal is None for b in model.bearings):
+        return []                   # nothing but films, each within its clearance
+    stiffness = _static_stiffness(model)
     q = static_solution(stiffness, weight_force(model))
     if q is None:
         return []
+    lateral = transverse_axes(model.spin_axis).T                                    # (3, 2)
     drops = []
     for b in model.bearings:
         rows, moves = bearing_motion(model, b)
-        drops.append(float(np.linalg.norm((moves @ q[rows])[:3])))
+        drop = np.zeros(3) if b.coefficients.kind == "journal" else (moves @ q[rows])[:3]
+        if b.pedestal is not None:          # the pedestal's own settling on its springs
+            drop = drop + lateral @ q[model.dofs.pedestal(b.name)]
+        drops.append(float(np.linalg.norm(drop)))
     worst = int(np.argmax(drops))
     if not drops[worst] > SAG_LIMIT:
         return []
     b, length = model.bearings[worst], unit_label("length", units)
     return [f"{model.source}: under gravity rotor {visible(b.rotor)!r} would sag "
             f"{to_system(drops[worst], 'length', units):.3g} {length} at [bearings.{visible(b.name)}] (static "
-            f"deflection of its bearings; over {to_system(SAG_LIMIT, 'length', units):.3g} {length} is unlikely): is a "
+            f"deflection of its bearings{' and pedestals' if model.dofs.pedestals else ''}; over {to_system(SAG_LIMIT, 'length', units):.3g} {length} is unlikely): is a "
             "stiffness in N/mm given as N/m, a mass in g given as kg, or gravity not in m/s^2?"]
+
+
+def _static_stiffness(model) -> np.ndarray:
+    """The stiffness ``K`` (n, n) of the static checks (:func:`_bearing_sag_lines`,
+    :func:`_journal_load_lines`): suspensions, constant bearings, pedestals, shafts and meshes as
+    assembled; a speed table at its first row, its lowest speed, the nearest to the machine at
+    rest under its weight (a table in N/mm is so at every row); a plain journal bearing as its
+    film at light load (:data:`~rotordyn_modal.elements.journal_bearing.LIGHT_LOAD_STIFFNESS`)
+    carrying its rotor's whole weight, ``4/pi W / c`` along and ``8/pi W / c`` across the weight
+    (:func:`_journal_static_piece`): a spring that holds the journal within its clearance, and
+    one that does not follow the journal's ``load`` as given, which :func:`_journal_load_lines`
+    checks against this solution."""
+    stiffness, _ = constant_stiffness_damping(model)
+    for bearing in model.bearings:
+        kind = bearing.coefficients.kind
+        if kind == "constant":
+            continue
+        k6 = bearing.coefficients.stiffness[0] if kind == "table" else _journal_static_piece(model, bearing)
+        rows, moves = bearing_motion(model, bearing)
+        stiffness[rows, rows] += moves.T @ k6 @ moves
+    return stiffness
+
+
+def _journal_static_piece(model, bearing) -> np.ndarray:
+    """A journal bearing's 6x6 stiffness (model axes) in :func:`_static_stiffness`: its constant
+    part and its light-load film at the weight ``W`` of its rotor normal to the spin axis (the
+    journal's given ``load`` where gravity gives none)."""
+    import dataclasses
+
+    journal = bearing.coefficients.journal
+    weight = _normal_weight(model, bearing.rotor)
+    if weight > 0:
+        journal = dataclasses.replace(journal, load=weight)
+    return light_load_stiffness(dataclasses.replace(bearing.coefficients, journal=journal))
+
+
+def _normal_weight(model, rotor: str) -> float:
+    """The weight [N] of rotor ``rotor`` normal to the spin axis (0 without gravity there)."""
+    e = np.asarray(model.spin_axis, dtype=float)
+    g = np.asarray(model.gravity, dtype=float)
+    mass = next(r.mass for r in model.rotors if r.name == rotor)
+    return float(mass * np.linalg.norm(g - (g @ e) * e))
+
+
+#: the factor by which a journal's given ``load`` may differ from its share of its rotor's weight
+#: without a warning: a kN typed as N is 1000 times, statics and films keep a share within it
+LOAD_FACTOR = 3.0
+#: the least share of its rotor's weight [-] a journal must carry for its given load to be
+#: compared: near zero (the centre of mass over the other bearing) the weight says nothing
+LEAST_LOAD_SHARE = 0.05
+
+
+def _journal_load_lines(model, units: str = "si") -> list[str]:
+    """A line for each journal bearing whose given ``load`` differs from its share of its rotor's
+    weight by more than :data:`LOAD_FACTOR` (a load in kN typed as N, 1000 times too small, or a
+    load in N typed 1000 times too large, a mass in other units): the film's coefficients follow
+    that load.
+
+    The share: the lever rule where the rotor stands on one or two bearings without a moment
+    stiffness (statically determinate, exact whatever the supports); otherwise the journal's
+    reaction in the static solution of the machine under the weights (:func:`_static_stiffness`;
+    models of at most :data:`SAG_CHECK_DOF` coordinates, larger ones are left to ``static``). Only where ``gravity`` has a part normal to the spin axis: without it the
+    given load is the only weight information and is taken as it is. A rotor in a transmission
+    is left out (its journals carry tooth or belt forces the weight does not tell), and so is a
+    journal whose share is below :data:`LEAST_LOAD_SHARE` of the weight."""
+    geared = {name for t in model.transmissions for name in (t.driver, t.driven)}
+    lines, solved = [], {}
+    for rotor in model.rotors:
+        weight = _normal_weight(model, rotor.name)
+        mates = [b for b in model.bearings if b.rotor == rotor.name]
+        given = [b for b in mates if b.coefficients.kind == "journal" and b.load is not None]
+        if not given or not weight > 0 or rotor.name in geared:
+            continue
+        shares = _lever_shares(model, rotor, mates)
+        if shares is None and model.dofs.n <= SAG_CHECK_DOF:
+            if "q" not in solved:
+                with one_blas_thread(72 * model.dofs.n ** 2):
+                    solved["q"] = static_solution(_static_stiffness(model), weight_force(model))
+            shares = None if solved["q"] is None else [_reaction(model, b, solved["q"]) for b in mates]
+        if shares is None:
+            continue
+        for b in given:
+            share, load = abs(shares[mates.index(b)]), float(b.load)
+            if not share > LEAST_LOAD_SHARE * weight or max(load / share, share / load) <= LOAD_FACTOR:
+                continue
+            force = unit_label("force", units)
+            how = "lever rule" if len(mates) < 3 and b.moment_stiffness is None else "static solution"
+            cause = ("a load in kN typed as N, or the rotor's mass in g typed as kg" if load < share else
+                     "a load typed 1000 times too large (in mN, or a weight from a mass in g), or the rotor's mass "
+                     "in t typed as kg")
+            lines.append(f"{model.source}: [bearings.{visible(b.name)}] load = {load:g}: {max(load / share, share / load):.4g} "
+                         f"times {'below' if load < share else 'above'} its share of rotor {visible(rotor.name)!r}'s "
+                         f"weight, {to_system(share, 'force', units):.4g} {force} ({how}; over {LOAD_FACTOR:g} times "
+                         f"is unlikely, and the film's coefficients follow the load): {cause}? (model files are SI: N)")
+    return lines
+
+
+def _lever_shares(model, rotor, mates):
+    """The force [N] each of ``mates`` carries of ``rotor``'s weight normal to the spin axis by
+    statics alone (one bearing: all of it; two at different stations without a moment stiffness:
+    the lever rule about the centre of mass), or None where the split is statically
+    indeterminate."""
+    weight = _normal_weight(model, rotor.name)
+    if len(mates) == 1:
+        return [weight]
+    if len(mates) > 2 or any(b.moment_stiffness is not None for b in mates):
+        return None
+    e = np.asarray(model.spin_axis, dtype=float)
+    s = [float((np.asarray(b.position, dtype=float) - np.asarray(rotor.center_of_mass, dtype=float)) @ e)
+         for b in mates]
+    if s[0] == s[1]:
+        return None
+    return [weight * s[1] / (s[1] - s[0]), weight * s[0] / (s[0] - s[1])]
+
+
+def _reaction(model, bearing, q) -> float:
+    """The force [N] bearing ``bearing`` carries normal to the spin axis in the static solution
+    ``q`` of :func:`_static_stiffness`."""
+    rows, moves = bearing_motion(model, bearing)
+    kind = bearing.coefficients.kind
+    k6 = (bearing.coefficients.stiffness[0] if kind != "journal" else _journal_static_piece(model, bearing))
+    force = (k6 @ (moves @ q[rows]))[:3]
+    e = np.asarray(model.spin_axis, dtype=float)
+    return float(np.linalg.norm(force - (force @ e) * e))
 
 
 def _mount_frequencies(model) -> np.ndarray:

@@ -150,6 +150,12 @@ def test_another_rotor_beside_journal_bearings_is_named(tmp_path):
     M = np.diag([aux["mass"], aux["mass"], aux["diametral_inertia"], aux["diametral_inertia"]])
     lowest = math.sqrt(scipy.linalg.eigh(K, M, eigvals_only=True)[0]) / (2 * math.pi)
     assert f"{lowest:.3g}" == f"{math.sqrt(4.0 / 10.0) / (2 * math.pi):.3g}"
+    # under gravity (sag38) its sag in its bearings is the one line: 10 kg x 9.81 / (2 x 2 N/m)
+    (line,) = _model_warnings(path)
+    assert "rotor 'aux' would sag" in line and f"{10.0 * 9.81 / 4.0:.3g} m" in line
+    # without gravity (the journals' loads given) the rigid-body mode is
+    path.write_text(re.sub(r"gravity = \[[^]]*\][^\n]*\n", "", text).replace(
+        'type = "journal"\n', 'type = "journal"\nload = 245.25\nload_direction = [0.0, 0.0, -1.0]\n') + _aux(0.0, 0.2, -0.2))
     (line,) = _rotor_lines(path)
     assert "rotor 'aux'" in line and _frequency(line) == f"{lowest:.3g}"
     assert "; at rest," in line and "a stiffness in N/mm given as N/m" in line      # the other rotor's words

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, cuts, draw_time_layout,
-                      edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      font_points, lay_out_again_when, operating_band, segment_bounds, set_if_changed, text_size,
-                      _BELOW, _drawn_segments, _overlap, _ROW_SPLIT, _short_orders, touching_groups)
+from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, box_distances, boxes_around, column_positions, cuts,
+                      draw_time_layout, edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any,
+                      crosses_segments, font_points, lay_out_again_when, operating_band, segment_bounds, set_if_changed,
+                      text_size, _drawn_segments, _overlap, _ROW_SPLIT, _short_orders, touching_groups)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -1233,8 +1233,7 @@ class _CampbellLabels:
         w, h = size[0] / self.to_u, size[1] / self.to_v
         pad = _PAD_POINTS * self.points
         boxes = boxes_around(u, v, w, h, pad, clear_px + pad, columns=_WIDE_COLUMNS, split=_ROW_SPLIT).array
-        far = np.hypot(np.maximum(np.maximum(boxes[:, 0] - u, u - boxes[:, 2]), 0.0),
-                       np.maximum(np.maximum(boxes[:, 1] - v, _BELOW * (v - boxes[:, 3])), 0.0))
+        far = box_distances(boxes, u, v)
         scale = np.array([self.to_u, self.to_v] * 2)
         wide = [b for b in (tuple(b) for b in (boxes[far <= _MOST_COST * h] * scale).tolist()) if b not in tried]
         return first_free_box(wide, placed, gap, frame, obstacles=markers, allowed=uncrossed)

@@ -524,23 +524,32 @@ def _vertical_label(ax, x, text, placed, renderer, curves=None, across=0, places
     room. A label across other critical lines hides them behind an opaque box: seen through its
     box they struck its text out (the fan's run-up: 'mode 1, 1X fan, 798 rpm' under the lines at
     866 and 880 rpm)."""
-    for crossed, place in _free_places(ax, x, text, placed, renderer, curves, places, keep=True):
+    for crossed, _, label, box, covers in _free_labels(ax, x, text, placed, renderer, curves, places):
         if crossed <= across:
-            label, box, covers = place
             if covers:
                 label.get_bbox_patch().set_alpha(1.0)
             placed.append(box)
             return label
-        place[0].remove()
+        label.remove()
     return None
 
 
-def _free_places(ax, x, text, placed, renderer, curves=None, places=_PLACES, keep=False):
+def _free_places(ax, x, text, placed, renderer, curves=None, places=_PLACES):
     """``(other critical lines through the label's text, place)`` of each place of ``places``
     where the label of the line at ``x`` lies inside ``ax``, clear of the boxes ``placed`` and of
-    the curves of ``curves``: the place as in ``places``, or (``keep``) ``(label, its box,
-    whether it covers another critical line)``, the caller removing the labels it does not
-    take (the others removed here)."""
+    the curves of ``curves`` (:func:`_free_labels`; no label is left drawn)."""
+    for crossed, place, label, _, _ in _free_labels(ax, x, text, placed, renderer, curves, places):
+        label.remove()
+        yield crossed, place
+
+
+def _free_labels(ax, x, text, placed, renderer, curves=None, places=_PLACES):
+    """``(crossed, place, label, box, covers)`` of each place of ``places`` where the label of the
+    line at ``x`` lies inside ``ax``, clear of the boxes ``placed`` and of the curves of
+    ``curves``: how many other critical lines run through its text, the place as in ``places``,
+    the label drawn there, its box (display units) and whether it covers another critical line.
+    The labels of the places not given are removed here; the caller removes those it does not
+    take."""
     frame = ax.get_window_extent(renderer)
     pad = 2.0 * ax.figure.dpi / 72.0
     line_x = ax.transData.transform((x, 0.0))[0]
@@ -559,10 +568,8 @@ def _free_places(ax, x, text, placed, renderer, curves=None, places=_PLACES, kee
                 box.x0 < b.x1 + pad and b.x0 < box.x1 + pad and box.y0 < b.y1 + pad and b.y0 < box.y1 + pad
                 for b in placed):
             crossed = int(np.count_nonzero((others > box.x0) & (others < box.x1)))
-            if keep:
-                yield crossed, (label, box, bool(crossed or np.any((bundled > box.x0) & (bundled < box.x1))))
-                continue
-            yield crossed, place
+            yield crossed, place, label, box, bool(crossed or np.any((bundled > box.x0) & (bundled < box.x1)))
+            continue
         label.remove()
 
 

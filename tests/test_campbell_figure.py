@@ -562,7 +562,7 @@ def test_coinciding_order_lines_share_one_label_in_the_colour_drawn_on_top():
         sources = re.sub(r"^[\d.X, ]+", "", t.get_text())
         if sources.startswith("mesh"):
             continue
-        assert sources == "upper, lower", t.get_text()
+        assert sources == "upper & lower", t.get_text()
         for order in orders:
             assert matplotlib.colors.to_hex(t.get_color()) == drawn[round(order / 60.0, 12)], t.get_text()
     critical = [t for kind, t in _labels(ax) if kind == "critical"]

@@ -1220,7 +1220,7 @@ def exits_of_orders(orders, lines, slopes, x_limits, top, bottom=0.0, to_axes=No
     -> (n, 2)``, with the same floats point by point (the lines' paths in one call each, not 200).
     Lines of several sources that coincide (twin rotors at one speed,
     a rotor's 2X on another's 1X) get one label naming them all, in the colour of the one
-    drawn last (on top, the one seen): ``1X upper, lower``, ``2X motor = 1X fan``.
+    drawn last (on top, the one seen): ``1X upper & lower``, ``2X motor = 1X fan``.
     """
     labels = []
     for slope, members in _coinciding_orders(orders, lines, slopes):
@@ -1282,11 +1282,13 @@ def _coinciding_orders(orders, lines, slopes):
 
 
 def _order_words(members):
-    """(prefix, suffix) of a label of coinciding lines: ``('1X', 'upper, lower')`` where the
-    orders are one, else ``('2X', 'motor = 1X fan')``."""
+    """(prefix, suffix) of a label of coinciding lines: ``('1X', 'upper & lower')`` where the
+    orders are one (``'a, b & c'`` for three), else ``('2X', 'motor = 1X fan')``. ('1X upper,
+    lower' read as two labels, the second naming no order: counter_rotating's.)"""
     first = f"{members[0][0]:g}X"
     if all(order == members[0][0] for order, _, _ in members):
-        return first, ", ".join(name for _, name, _ in members)
+        names = [name for _, name, _ in members]
+        return first, " & ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
     return first, " = ".join([members[0][1]] + [f"{order:g}X {name}" for order, name, _ in members[1:]])
 
 

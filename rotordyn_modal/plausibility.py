@@ -32,7 +32,7 @@ from .model.geometry import shift_matrix, transverse_axes
 from .stiffness_spread import spread_lines
 from .units import to_system, unit_label
 
-__all__ = ["implausible", "SAG_LIMIT", "SAG_CHECK_DOF", "LOWEST_MOUNT_FREQUENCY", "CLEARANCE_WARN", "SLOW_MAXWELL",
+__all__ = ["implausible", "SAG_LIMIT", "SAG_CHECK_DOF", "LOW_MODE_CHECK_DOF", "LOWEST_MOUNT_FREQUENCY", "CLEARANCE_WARN", "SLOW_MAXWELL",
            "FAR_POINT", "LOAD_FACTOR", "LEAST_LOAD_SHARE"]
 
 
@@ -41,10 +41,15 @@ __all__ = ["implausible", "SAG_LIMIT", "SAG_CHECK_DOF", "LOWEST_MOUNT_FREQUENCY"
 #: mount mode already sags 0.1 m, since f = sqrt(g / sag) / (2 pi)); metres mean a stiffness in
 #: N/mm given as N/m or a mass in g given as kg (either makes the sag 1000 times too large)
 SAG_LIMIT = 0.1
-#: the most coordinates of a model whose rotors' sag in their bearings is looked at when it is
-#: read (a dense SVD of the stiffness, about 50 ms at this size on one thread: 0.3 s at 381;
-#: larger models are left to ``static``)
-SAG_CHECK_DOF = 200
+#: the most coordinates of a model whose rotors' sag in their bearings and journal loads are
+#: looked at when it is read (a dense LU of the stiffness, ``linear_system.static_solution``:
+#: about 0.1 s at this size on one thread, the 500-rotor gear chain's 2,006 coordinates; larger
+#: models are left to ``static``)
+SAG_CHECK_DOF = 2500
+#: the most coordinates of a model whose rotors' lowest modes in their bearings are looked at
+#: when it is read (dense generalized eigenproblems per rotor; larger models get the rigid-rotor
+#: bound, :func:`_rigid_rotor_bound_lines`)
+LOW_MODE_CHECK_DOF = 200
 #: lowest natural frequency [Hz] of the machine on its suspensions below which a model without
 #: gravity draws a warning (a stiffness 1000 times too small, or a mass 1000 times too large, puts a
 #: 10 Hz mount mode at 0.3 Hz)
@@ -91,19 +96,11 @@ def implausible(model, units: str = "si") -> list[str]:
         except (np.linalg.LinAlgError, ValueError):
             pass
     # one sag line for one mistake: the machine's on its suspensions already names the units
-    if model.bearings and not sag and model.dofs.n <= SAG_CHECK_DOF:
-        try:       # small dense work: one BLAS thread (a busy machine's many threads took 0.3 s for 68x68)
-            with np.errstate(all="ignore"), one_blas_thread(72 * model.dofs.n ** 2):
-                held = _bearing_sag_lines(model, units) if np.any(model.gravity) else []
-                lines += held or _low_rotor_mode_lines(model)
-        except (np.linalg.LinAlgError, ValueError):
-            pass
-    elif model.bearings and not sag:
-        try:
-            with np.errstate(all="ignore"):
-                lines += _rigid_rotor_bound_lines(model)
-        except (np.linalg.LinAlgError, ValueError):
-            pass
+    if model.bearings and not sag:
+        held = _checked(_bearing_sag_lines, model, units) \
+            if np.any(model.gravity) and model.dofs.n <= SAG_CHECK_DOF else []
+        lines += held or (_checked(_low_rotor_mode_lines, model) if model.dofs.n <= LOW_MODE_CHECK_DOF
+                          else _checked(_rigid_rotor_bound_lines, model, dense=False))
     for b in model.bearings:
         journal = b.coefficients.journal
         if journal is not None and journal.length > LONG_JOURNAL * journal.diameter:
@@ -125,6 +122,20 @@ def implausible(model, units: str = "si") -> list[str]:
 #: the largest radial running clearance [m] of a close-clearance station that draws no warning:
 #: seals and impeller eyes run 0.1 to 2 mm
 CLEARANCE_WARN = 0.01
+
+
+def _checked(check, model, *arguments, dense=True) -> list[str]:
+    """``check(model, *arguments)``'s lines, none where its numbers fail (a model whose numbers
+    overflow here is refused by its analyses, not by a warning); ``dense``: on one BLAS thread
+    (small dense work: a busy machine's many threads took 0.3 s for 68x68)."""
+    import contextlib
+
+    try:
+        with np.errstate(all="ignore"), \
+                (one_blas_thread(72 * model.dofs.n ** 2) if dense else contextlib.nullcontext()):
+            return check(model, *arguments)
+    except (np.linalg.LinAlgError, ValueError):
+        return []
 
 
 def _clearance_lines(model) -> list[str]:

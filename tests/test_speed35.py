@@ -46,6 +46,7 @@ class _Matrices:
         self.n_dof = n
         self.dependent = False
         self.branch_times = np.zeros((1, 0))
+        self.constants = {}       # where the route keeps its speed-independent parts, as Stack.constants
 
     def __len__(self):
         return 1

@@ -659,16 +659,17 @@ def _full_lowest(stack, speeds, count, progress=False):
         bar = tqdm(total=len(speeds), desc="lowest modes (full eigen-solve)", unit="speed", leave=False)
     small = stack.n_dof < DENSE_BELOW and 16 * len(speeds) * n_states * stack.n_dof <= _KEPT_REDUCTIONS_BYTES
     kept = _kept_full(stack) if small else None
+
+    def solve(chunk):
+        return stack.solve(stack.sweep(chunk)[0], np.zeros(len(chunk), int))
+
     try:
         for part in parts:
             chunk = speeds[part]
-            if kept is not None and all(float(speed) in kept for speed in chunk):
-                lam = np.array([kept[float(speed)][0] for speed in chunk])
-                phi = np.array([kept[float(speed)][1] for speed in chunk])
+            if kept is None:
+                lam, phi = solve(chunk)
             else:
-                lam, phi = stack.solve(stack.sweep(chunk)[0], np.zeros(len(chunk), int))
-                if kept is not None:
-                    kept.update((float(speed), (lam[i], phi[i])) for i, speed in enumerate(chunk))
+                lam, phi = _kept_or_solved(kept, chunk, solve)
             values[part], shapes[part] = lowest_of(lam, phi, k)
             del lam, phi
             if bar is not None:
@@ -682,10 +683,30 @@ def _full_lowest(stack, speeds, count, progress=False):
 def _kept_full(stack) -> dict:
     """``{speed: (roots (m,), shapes (m, n))}`` of :func:`_full_lowest`'s solves of a small model
     (below ``DENSE_BELOW`` coordinates; a call of at most ``_KEPT_REDUCTIONS_BYTES`` of them) on
-    ``stack``, kept on it: ``campbell``'s checks of its mode
-    links solve some sweep speeds again, for more roots (each speed's solve is its own: the same
-    bits)."""
-    return stack.__dict__.setdefault("_lowest_full", {})
+    ``stack`` (:func:`_kept_by_speed`): ``campbell``'s checks of its mode links solve some sweep
+    speeds again, for more roots (each speed's solve is its own: the same bits)."""
+    return _kept_by_speed(stack, "_lowest_full")
+
+
+def _kept_by_speed(stack, name: str) -> dict:
+    """A memo ``{speed [rad/s] (float): a tuple of that speed's arrays}`` kept on ``stack`` under
+    ``name``, empty at first: the lowest modes' route keeps some solves of a stack's speeds in
+    such memos (:func:`_kept_full`, :func:`_kept_upper`, :func:`_kept_vectors`,
+    :func:`_kept_reductions`) for ``campbell``'s checks, which solve some sweep speeds again."""
+    return stack.__dict__.setdefault(name, {})
+
+
+def _kept_or_solved(kept, speeds, solve):
+    """Each speed's arrays of ``speeds`` (S,) [rad/s], stacked by speed: a tuple of (S, ...)
+    arrays, those ``kept`` (:func:`_kept_by_speed`) taken from it and the others solved together
+    by ``solve(speeds)`` (a tuple of arrays by speed) and added to it. Each speed's solve is its own
+    (the same bits with any other speeds or alone)."""
+    new = np.array([p for p, speed in enumerate(speeds) if float(speed) not in kept], dtype=int)
+    if len(new):
+        made = solve(speeds[new])
+        kept.update((float(speeds[p]), tuple(part[i] for part in made)) for i, p in enumerate(new))
+    rows = [kept[float(speed)] for speed in speeds]
+    return tuple(np.array([row[j] for row in rows]) for j in range(len(rows[0]))) if rows else None
 
 
 def lowest_of(lam, phi, count):
@@ -949,22 +970,17 @@ def _dense_lowest(stack, speeds, count):
     -------
     eigenvalues : ndarray, shape (S, count), complex; shapes : ndarray, shape (S, count, n)
     """
-    kept = _kept_upper(stack)
-    new = np.array([p for p, speed in enumerate(speeds) if float(speed) not in kept], dtype=int)
-    if len(new):
-        upper, whole = _eigensolve.upper_eigenvalues(stack.sweep(speeds[new])[0])
-        kept.update((float(speeds[p]), (upper[i], bool(whole[i]))) for i, p in enumerate(new))
-    upper = np.array([kept[float(speed)][0] for speed in speeds]).reshape(len(speeds), -1)
-    whole = np.array([kept[float(speed)][1] for speed in speeds], dtype=bool)
-    return _lowest_of_upper(stack, speeds, count, upper, whole)
+    upper, whole = _kept_or_solved(_kept_upper(stack), speeds,
+                                   lambda new: _eigensolve.upper_eigenvalues(stack.sweep(new)[0]))
+    return _lowest_of_upper(stack, speeds, count, upper, whole.astype(bool))
 
 
 def _kept_upper(stack) -> dict:
     """``{speed: (upper roots (m,), solved whole)}`` of :func:`_dense_lowest`'s ``eigvals`` at the
-    speeds solved on ``stack``, kept on it (``m`` roots of a model below ``DENSE_BELOW``
+    speeds solved on ``stack`` (:func:`_kept_by_speed`; ``m`` roots of a model below ``DENSE_BELOW``
     coordinates: a few kB a speed): ``campbell``'s checks of its mode links solve some sweep
     speeds again, for more roots, from the same eigenvalues (each row's alone: the same bits)."""
-    return stack.__dict__.setdefault("_lowest_upper", {})
+    return _kept_by_speed(stack, "_lowest_upper")
 
 
 def _small_lowest(stack, speeds, count):
@@ -1054,13 +1070,13 @@ def _kept_vectors(stack) -> dict:
     """``{speed: (eigenvalues (N,), eigenvectors (N, count))}`` of the Hermitian route's ``B`` at the
     speeds :func:`weighted_lowest_roots` solved on ``stack``, kept on it (the latest of a speed's):
     ``_lowest_pairs.pairs_kept`` starts from them."""
-    return stack.__dict__.setdefault("_lowest_vectors", {})
+    return _kept_by_speed(stack, "_lowest_vectors")
 
 
 def _kept_reductions(stack) -> dict:
     """``{speed: (reduction (N, N), tau (N - 1,), eigenvalues (N,))}`` of the Hermitian route's
     ``B`` at the speeds solved on ``stack`` (:func:`_gyroscopic_roots`), kept on it."""
-    return stack.__dict__.setdefault("_lowest_reductions", {})
+    return _kept_by_speed(stack, "_lowest_reductions")
 
 
 def _near_zero(constant, gyroscopic, speeds, omega):
@@ -1212,7 +1228,7 @@ def _hermitian_form(stack):
     finer speeds six times more (``campbell._check_grids``), and BLAS's own threads on these small
     products only wait for a core on a shared machine (measured on ``rotor_example``, 21 speeds, load
     about 20: 57 ms of CPU a ``campbell(modes=12)`` of 111 ms, against 2.9 ms with one thread)."""
-    kept = getattr(stack, "constants", stack.__dict__)        # a small model's: shared by its stacks
+    kept = stack.constants        # a small model's: shared by its stacks
     cached = kept.get("_lowest_hermitian", False)
     if cached is False:
         with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):

@@ -83,7 +83,7 @@ def _stack_bound(stack, pencils, kind=None):
     if cached is None:
         omegas, symmetric, modes = _basis(stack, pencils.speeds[:1])
         cached = stack.lowest_basis = {"basis": (omegas, modes, symmetric)}
-    bound = (kind or _Bound)(pencils, *cached["basis"], products=cached.get("products"))
+    bound = (kind or _Bound)(pencils, *cached["basis"], products=cached.get("products"), kept=cached)
     cached["products"] = bound.products
     return bound
 
@@ -115,15 +115,11 @@ class _Bound:
         ``K_0`` [N/m].
     """
 
-    def __init__(self, pencils, omegas, modes, symmetric, products=None):
+    def __init__(self, pencils, omegas, modes, symmetric, products=None, kept=None):
         self.omegas, self.modes, self.speeds = omegas, modes, pencils.speeds
-        # K's departure from K_0, sparse (K_0 dense where a caller gives it so)
-        offset = scipy.sparse.csr_matrix(pencils.K) - scipy.sparse.csr_matrix(symmetric)
-        offset.eliminate_zeros()
-        self.local = np.unique(np.concatenate([*_nonzero(pencils.C), *offset.nonzero(),
-                                               pencils.rows, pencils.cols])).astype(int)
-        self.damping_norms, self.stiffness_norms = _local_norms(pencils, offset, self.local)
-        del offset
+        local = _Local.of(pencils, symmetric, kept)
+        self.local = local.local
+        self.damping_norms, self.stiffness_norms = local.norms(pencils)
         if products is None or not np.array_equal(products[0], self.local):
             reach = np.linalg.norm(modes[self.local], 2) if len(self.local) else 0.0
             local_rows = np.einsum("ij,ij->j", modes[self.local], modes[self.local])
@@ -167,6 +163,52 @@ class _Bound:
         return bound, self.modes[:, size:] @ left[:, :directions]
 
 
+class _Local:
+    """The bound's coordinates ``L`` where the damping and K's departure from ``K_0`` act
+    (``local`` (|L|,)), those two matrices' blocks there (|L|, |L|) and where the bearings' entries
+    fall in them, and the blocks' norms at each speed asked (:func:`_local_norms`), kept by speed:
+    ``campbell``'s checks of the mode links solve the lowest modes again at sweep speeds on the same
+    stack, with the same basis (:func:`_stack_bound`), and each speed's norms are its own (the same
+    bits whichever speeds are asked with it)."""
+
+    def __init__(self, pencils, symmetric):
+        # K's departure from K_0, sparse (K_0 dense where a caller gives it so)
+        offset = scipy.sparse.csr_matrix(pencils.K) - scipy.sparse.csr_matrix(symmetric)
+        offset.eliminate_zeros()
+        self.local = local = np.unique(np.concatenate([*_nonzero(pencils.C), *offset.nonzero(),
+                                                       pencils.rows, pencils.cols])).astype(int)
+        self.at = local_entries(pencils, offset.shape[0], local) if len(local) else None
+        self.blocks = (_block(pencils.C, local), offset[local][:, local].toarray()) if len(local) else None
+        self.by_speed = {}
+
+    @classmethod
+    def of(cls, pencils, symmetric, kept=None):
+        """The :class:`_Local` of ``pencils`` on the basis of ``K_0`` = ``symmetric``, taken from
+        ``kept`` (a stack's ``lowest_basis``, whose basis ``symmetric`` is) where a sweep of the same
+        kind of pencils with the same bearing entries made it, else made (and kept there)."""
+        if kept is None:
+            return cls(pencils, symmetric)
+        key = ("local", type(pencils).__name__, pencils.rows.tobytes(), pencils.cols.tobytes())
+        if key not in kept:
+            kept[key] = cls(pencils, symmetric)
+        return kept[key]
+
+    def norms(self, pencils):
+        """:func:`_local_norms` of ``pencils``' speeds (S,) each, those of a speed asked before
+        taken (with its bearings' entries the same), the others computed together."""
+        count = len(pencils.speeds)
+        if not len(self.local):
+            return np.zeros(count), np.zeros(count)
+        keys = [(float(speed), pencils.cb[p].tobytes(), pencils.kb[p].tobytes())
+                for p, speed in enumerate(pencils.speeds)]
+        new = [p for p, key in enumerate(keys) if key not in self.by_speed]
+        if new:
+            damping, stiffness = _block_norms(self.blocks, self.at, pencils.cb[new], pencils.kb[new])
+            self.by_speed.update((keys[p], (damping[i], stiffness[i])) for i, p in enumerate(new))
+        both = np.array([self.by_speed[key] for key in keys]).reshape(count, 2)
+        return both[:, 0].copy(), both[:, 1].copy()
+
+
 def _gyro_rows(G, modes):
     """The squared norms of the rows of ``modes^T G modes`` (n,), for a sparse ``G`` (n, n), a
     block of columns at a time (never a second n x n array)."""
@@ -194,15 +236,23 @@ def _local_norms(pencils, offset, local):
     if not len(local):
         return np.zeros(count), np.zeros(count)
     at = local_entries(pencils, offset.shape[0], local)
-    offset = offset[local][:, local].toarray()                            # (|L|, |L|)
+    blocks = (_block(pencils.C, local), offset[local][:, local].toarray())        # (|L|, |L|) each
+    return _block_norms(blocks, at, pencils.cb, pencils.kb)
+
+
+def _block_norms(blocks, at, cb, kb):
+    """:func:`_local_norms` from the constant blocks of the damping and of K's departure from
+    ``K_0`` on ``L`` (``blocks``: two (|L|, |L|)), the bearings' places in them ``at`` (nb,) and
+    their entries ``cb``, ``kb`` (S, nb): (S,) each. Each speed's norms are its own."""
+    count, size = len(cb), blocks[0].shape[0]
     out = np.empty((2, count))
-    for part in _batches.chunk_slices(count, 16 * len(local) ** 2):
-        for i, (constant, entries) in enumerate(((_block(pencils.C, local), pencils.cb), (offset, pencils.kb))):
+    for part in _batches.chunk_slices(count, 16 * size ** 2):
+        for i, (constant, entries) in enumerate(((blocks[0], cb), (blocks[1], kb))):
             matrices = np.repeat(constant.reshape(1, -1), part.stop - part.start, axis=0)
             np.add.at(matrices, (slice(None), at), entries[part])
             # 2-norms of small blocks; Frobenius norms (larger, as cheap as the entries) of large ones
-            order = 2 if len(local) <= _EXACT_NORMS else "fro"
-            out[i, part] = np.linalg.norm(matrices.reshape(-1, len(local), len(local)), order, axis=(1, 2))
+            order = 2 if size <= _EXACT_NORMS else "fro"
+            out[i, part] = np.linalg.norm(matrices.reshape(-1, size, size), order, axis=(1, 2))
     return out[0], out[1]
 
 

@@ -339,8 +339,8 @@ class _RationalBound(_lowest._Bound):
     """:class:`._lowest._Bound` with the branches' stiffness in the departure from ``K_0`` (the
     static stiffness): ``|B_k| + sum_t |K_t| largest_factor(rho, tau_t)`` at each ``rho``."""
 
-    def __init__(self, pencils, omegas, modes, symmetric, products=None):
-        super().__init__(pencils, omegas, modes, symmetric, products)
+    def __init__(self, pencils, omegas, modes, symmetric, products=None, kept=None):
+        super().__init__(pencils, omegas, modes, symmetric, products, kept)
         self.static_norms = self.stiffness_norms
         self.term_norms = np.array([np.linalg.norm(term[2], 2) for term in pencils.terms])
         self.term_times = np.array([term[0] for term in pencils.terms])

@@ -108,7 +108,7 @@ def _top_eigenvalues(hermitian):
 
 def _speed_norm(stack, gyroscopic) -> float:
     """``|B_1|_2``, the spectral norm of the speed part of ``B`` (kept on the stack)."""
-    kept = getattr(stack, "constants", stack.__dict__)        # a small model's: shared by its stacks
+    kept = stack.constants        # a small model's: shared by its stacks
     cached = kept.get("_lowest_speed_norm")
     if cached is None:
         part = gyroscopic.imag if not np.any(gyroscopic.real) else gyroscopic      # B_1 = i S_1: |B_1| = |S_1|

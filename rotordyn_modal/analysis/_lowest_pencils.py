@@ -63,7 +63,7 @@ class _Pencils:
         self._layout = None       # the same in band storage (:meth:`_band_layout`), made on first use
         # the pattern's parts and the sparse products' matrices depend on the model alone (not on the
         # speeds): made once per stack (a small model's once, :func:`._stack.model_constants`)
-        kept = getattr(stack, "constants", stack.__dict__).setdefault("_lowest_patterns", {})
+        kept = stack.constants.setdefault("_lowest_patterns", {})
         key = (type(self).__name__, n, self.rows.tobytes(), self.cols.tobytes())
         if key not in kept:
             kept[key] = self._pattern_parts(n)

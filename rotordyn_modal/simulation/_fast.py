@@ -848,8 +848,11 @@ def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, iner
         elastic[s], weight[s] = potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3,
                                           spos, sK, bbody, bpos, bspeeds, bcount, bK, bC)
         _frame(y, n, e, E2, nf, mats[0], mats[1], vec[0], omega[s], vec[1], vec[2], mats[2:5], vec[3:7])
-        wrenches[s] = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC,
-                                       bfilm, baxes)
+        wrench = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, bfilm,
+                                  baxes)
+        for br in range(wrench.shape[0]):     # element by element: ``wrenches[s] = ...`` makes numba
+            for i in range(6):                # compile its shape-mismatch message (3 s of a 28 s compile)
+                wrenches[s, br, i] = wrench[br, i]
     return kinetic, elastic, weight, torque, omega, wrenches
 
 
@@ -907,14 +910,27 @@ def rhs_flat(t, y, floats, ints):
 
 def pack(system, mode, accel, t_start, t_stop):
     """``(floats, ints)`` for :func:`rhs_flat` from a ``SystemArrays`` and the drive."""
-    parts = [system.e, system.E2, system.gravity, system.mass, system.center, system.offset,
-             system.inertia, system.ratio, system.A3, system.spos, system.sK, system.sC, system.bpos,
-             system.bspeeds, system.bK, system.bC, system.bfilm, system.baxes, [accel, t_start, t_stop]]
+    return pack_arguments(system.kernel_arguments() + (mode, accel, t_start, t_stop))
+
+
+def pack_arguments(arguments):
+    """``(floats, ints)`` for :func:`rhs_flat` from :func:`rhs`'s arguments after ``(t, y)``."""
+    (e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3, spos, sK, sC, bbody, bpos,
+     bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop) = arguments
+    parts = [e, E2, gravity, mass, center, offset, inertia, ratio, A3, spos, sK, sC, bpos, bspeeds, bK, bC, bfilm,
+             baxes, [accel, t_start, t_stop]]
     floats = np.concatenate([np.ascontiguousarray(p, dtype=float).ravel() for p in parts])
-    sizes = [system.nf, len(system.mass), len(system.spos), len(system.bbody), system.bspeeds.shape[1], mode]
-    ints = np.concatenate([np.array(sizes, dtype=np.int64), system.slot, system.ntrans, system.bbody,
-                           system.bcount]).astype(np.int64)
+    sizes = [nf, len(mass), len(spos), len(bbody), np.shape(bspeeds)[1], mode]
+    ints = np.concatenate([np.array(sizes, dtype=np.int64), slot, ntrans, bbody, bcount]).astype(np.int64)
     return floats, ints
+
+
+def packed(compiled_rhs_flat):
+    """:func:`rhs` called from Python through ``compiled_rhs_flat`` (numba's :func:`rhs_flat`), so
+    that numba compiles the right-hand side once, as ``rhs_flat``, not again as ``rhs``."""
+    def rhs(t, y, *arguments):
+        return compiled_rhs_flat(t, y, *pack_arguments(arguments))
+    return rhs
 
 
 FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_solve_ordered",
@@ -924,6 +940,15 @@ FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_s
              "_add_bearing_forces", "_suspension_energy", "_center_of_mass", "assemble", "_solve_motion", "rhs",
              "potential", "_quadratic", "bearing_wrenches", "sample_outputs", "rhs_flat")
 #: steps of ``assemble_into`` and ``potential``, inlined into them by numba (``inline="always"``):
-#: called as functions with many array arguments they would cost time in the right-hand side
+#: called as functions with many array arguments they would cost time in the right-hand side; and
+#: functions with one compiled caller (the steps of the solve, ``rhs`` in ``rhs_flat``,
+#: ``potential`` and ``bearing_wrenches`` in ``sample_outputs``): each compiled function of its own
+#: is optimised and translated to machine code again in every compiled caller above it
 INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
-           "_add_bearing_forces", "_suspension_energy", "_center_of_mass")
+           "_add_bearing_forces", "_suspension_energy", "_center_of_mass",
+           "rhs")
+#: compiled functions called only from other compiled functions: no wrapper for calls from Python
+INTERNAL = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_interpolate", "_frame", "_relative",
+            "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now", "assemble_into",
+            "_quadratic", "_solve_motion", "_solve_spd", "_solve_ordered", "_solve_order", "_rows_below",
+            "_solve_mass")

@@ -22,7 +22,7 @@ def numba_or_none():
     return numba
 
 
-def compile_together(functions, names, module, inlined=()) -> dict:
+def compile_together(functions, names, module, inlined=(), internal=()) -> dict:
     """Compile ``functions`` by numba (cached on disk), each calling the others compiled.
 
     Parameters
@@ -38,6 +38,9 @@ def compile_together(functions, names, module, inlined=()) -> dict:
     inlined : collection of str
         Names of functions numba inlines into their callers (``inline="always"``); the others
         stay calls.
+    internal : collection of str
+        Names of functions called only by the others: compiled without the wrappers that let
+        Python call them (machine code numba would otherwise generate, optimise and cache for each).
 
     Returns
     -------
@@ -53,5 +56,7 @@ def compile_together(functions, names, module, inlined=()) -> dict:
         name = function.__name__
         rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
         inline = "always" if name in inlined else "never"
-        namespace[name] = numba.njit(cache=True, inline=inline)(rebound)
+        bare = name in internal
+        namespace[name] = numba.njit(cache=True, inline=inline, no_cpython_wrapper=bare,
+                                     no_cfunc_wrapper=bare)(rebound)
     return namespace

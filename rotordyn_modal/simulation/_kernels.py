@@ -491,11 +491,12 @@ def compiled_namespace():
                                              "SERIES_ANGLE": kinematics.SERIES_ANGLE}, __name__)
     fast = compile_together([getattr(_fast, name) for name in _fast.FUNCTIONS],
                             {"np": np, "SERIES": _fast.SERIES, "ORDERED_FROM": _fast.ORDERED_FROM}, _fast.__name__,
-                            inlined=_fast.INLINED)
+                            inlined=_fast.INLINED, internal=_fast.INTERNAL)
     for name in _FAST:     # looked up by the readable callers when they compile, on first call
         namespace[name] = fast[name]
     compiled = types.SimpleNamespace(**{name: namespace[name] for name in _KERNELS})
     compiled.rhs_flat = fast["rhs_flat"]
+    compiled.rhs = _fast.packed(fast["rhs_flat"])     # ``rhs`` is inlined into ``rhs_flat``
     return compiled
 
 

@@ -1527,11 +1527,14 @@ class _CampbellLabels:
             # touching the left spine on the flexible pump's Campbell); the others as they were
             lefts = np.maximum(lefts, _NOTE_MARGIN_POINTS * margin_u)
             bottoms = np.maximum(bottoms, _NOTE_MARGIN_POINTS * margin_v)
-            boxes = [(a, b, a + w, b + h) for a in lefts for b in bottoms
-                     if a + w <= 1 - _NOTE_MARGIN_POINTS * margin_u and b + h <= 1 - _NOTE_MARGIN_POINTS * margin_v]
-            boxes.sort(key=lambda box: np.hypot((box[0] + box[2]) / 2 - centre[0], (box[1] + box[3]) / 2 - centre[1]))
-            box = first_free_box(boxes, placed, gap, frame, obstacles=markers,
-                                 allowed=lambda box: self.curves.free(box) and not crosses_any(self.leader_lines, [box]))
+            # every left with every bottom (bottoms the inner loop), nearest the centre first (a
+            # stable sort: the first of equals first), tested many at a time
+            a, b = np.repeat(lefts, len(bottoms)), np.tile(bottoms, len(lefts))
+            inside = (a + w <= 1 - _NOTE_MARGIN_POINTS * margin_u) & (b + h <= 1 - _NOTE_MARGIN_POINTS * margin_v)
+            boxes = np.column_stack([a, b, a + w, b + h])[inside]
+            boxes = boxes[np.argsort(np.hypot((boxes[:, 0] + boxes[:, 2]) / 2 - centre[0],
+                                              (boxes[:, 1] + boxes[:, 3]) / 2 - centre[1]), kind="stable")]
+            box = first_free_box(BoxRows(boxes), placed, gap, frame, obstacles=markers, each=self._off_curves_and_leaders)
             if box is not None:
                 self._set(note, text=words, position=(box[0], box[1]), va="bottom", ha="left",
                                clip_on=True, visible=True)
@@ -1543,6 +1546,14 @@ class _CampbellLabels:
             total = len(self._in_view())
             self._set(entry, text=f"critical speed ({total - len(left)} of {total} labelled,\n"
                                        "all in the critical-speeds table)")
+
+    def _off_curves_and_leaders(self, boxes):
+        """Whether each of ``boxes`` ((n, 4), axes fraction) holds no curve and no leader line
+        runs through it: mask (n,)."""
+        ok = self.curves.free_each(boxes)
+        if len(self.leader_lines):
+            ok &= ~crossing_pairs(np.asarray(self.leader_lines, float).reshape(-1, 4), boxes).any(axis=0)
+        return ok
 
     def _name_mentioned(self):
         """The compact right-edge labels (:func:`_mode_words`) that leave out a mode the note

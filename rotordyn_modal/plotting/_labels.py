@@ -468,8 +468,8 @@ def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0
     (n, 4) array of candidates giving a mask (n,), must say True too: it is asked of a few
     candidates at a time (:data:`_EACH_CHUNKS`), in their order, and ``allowed`` only of those
     it passes (the tests of one box each, made on many boxes at once; the same answers). With
-    ``cost`` (a function of a box),
-    the free candidate of least cost is taken instead of the first (the first of equals);
+    ``cost`` (a function of a box), the free candidate of least cost is taken instead of the
+    first (the first of equals);
     ``bound`` (a function of a box, not above its cost and not decreasing along the
     candidates) ends the search where no later candidate can cost less.
     The box taken is appended to ``placed``.
@@ -498,8 +498,7 @@ def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0
     return best[1]
 
 
-#: :func:`first_free_box` asks its ``each`` about the candidates in chunks: the first chunk of
-#: 8 candidates, then up to the first of these counts above those asked, then 64 at a time
+#: :func:`first_free_box` asks its ``each`` about 8 candidates, then 24, then 64 at a time
 #: (the box taken is often among the first few)
 _EACH_CHUNKS = (8, 24, 64)
 

@@ -1272,7 +1272,7 @@ class _CampbellLabels:
     def _wider_box(self, anchor, size, clear_px, tried, placed, gap, frame, markers, uncrossed):
         """A critical speed's label box (axes fraction) farther to the side than :meth:`_label_box`'s
         grid reaches (out to :data:`_WIDE_COLUMNS` label widths), within :data:`_MOST_COST` label
-        heights, nearest first, its leader crossing no curve (``uncrossed``); or None. The boxes
+        heights, nearest first, its leader crossing no curve (``uncrossed``: a mask of boxes (n, 4)); or None. The boxes
         ``tried`` already are left out. flexible_pump_on_mounts' '700' (0:3600:121) crossed mode
         5's line from every box of the grid; a box 2.5 label widths right, between the curves, is clear.
 

@@ -180,7 +180,8 @@ def test_first_free_box_with_a_batched_test_takes_the_box_of_the_one_box_test():
         assert all(size in (8, 24, 64) for size in asked[:-1])
         assert sum(asked) <= len(candidates)
         if "cost" not in options and wanted is not None:       # asked up to the chunk of the box taken
-            clear = np.flatnonzero(_labels._inside_and_clear(candidates, placed, (0.01, 0.01), (0.0, 0.0, 1.0, 1.0), ()))
+            clear = np.flatnonzero(_labels._inside_and_clear(candidates, placed, (0.01, 0.01),
+                                                             (0.0, 0.0, 1.0, 1.0), ()))
             assert sum(asked[:-1]) <= clear.tolist().index(candidates.index(wanted)) < sum(asked)
 
 

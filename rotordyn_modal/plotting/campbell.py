@@ -1272,7 +1272,7 @@ class _CampbellLabels:
     def _wider_box(self, anchor, size, clear_px, tried, placed, gap, frame, markers, uncrossed):
         """A critical speed's label box (axes fraction) farther to the side than :meth:`_label_box`'s
         grid reaches (out to :data:`_WIDE_COLUMNS` label widths), within :data:`_MOST_COST` label
-        heights, nearest first, its leader crossing no curve (``uncrossed``: a mask of boxes (n, 4)); or None. The boxes
+        heights, nearest first, its leader crossing no curve (``uncrossed``, a mask of boxes); or None. The boxes
         ``tried`` already are left out. flexible_pump_on_mounts' '700' (0:3600:121) crossed mode
         5's line from every box of the grid; a box 2.5 label widths right, between the curves, is clear.
 
@@ -1535,7 +1535,8 @@ class _CampbellLabels:
             boxes = np.column_stack([a, b, a + w, b + h])[inside]
             boxes = boxes[np.argsort(np.hypot((boxes[:, 0] + boxes[:, 2]) / 2 - centre[0],
                                               (boxes[:, 1] + boxes[:, 3]) / 2 - centre[1]), kind="stable")]
-            box = first_free_box(BoxRows(boxes), placed, gap, frame, obstacles=markers, each=self._off_curves_and_leaders)
+            box = first_free_box(BoxRows(boxes), placed, gap, frame, obstacles=markers,
+                                 each=self._off_curves_and_leaders)
             if box is not None:
                 self._set(note, text=words, position=(box[0], box[1]), va="bottom", ha="left",
                                clip_on=True, visible=True)

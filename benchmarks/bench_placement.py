@@ -11,7 +11,14 @@ Figures (each ``result.plot()`` and ``savefig`` to PNG at 150 dpi, the analysis 
   ``tests/test_ucs_map.py::test_figure_writes_every_crossing_and_name_clear_of_curves_markers_and_each_other``;
 * ``campbell-fan``: fan_on_bearings' Campbell diagram, 0 .. 9000 rpm at 121 speeds, orders 1, 2;
 * ``campbell-chain40``: the 40-rotor gear chain (``tests/test_large_machine_cli.chained_gear_toml``),
-  0 .. 4500 rpm at 22 speeds.
+  0 .. 4500 rpm at 22 speeds;
+* ``campbell-chain60``: the 60-rotor gear chain, the same speeds, titled and saved as the report
+  page saves it (``figure_png`` at 110 dpi), the figure of ``tests/test_campbell_chain32.py``;
+* ``campbell-report6``: the report page's Campbell figure of the 6-rotor gear chain (with the
+  channels of ``tests/test_report_estimate27r.py``, API 684, 3000 rpm, 21 points): its sweep
+  from ``report.collect``, drawn as ``report.render`` draws it and saved by ``figure_png``;
+* ``campbell-compressor``: compressor_rotor's Campbell diagram, 0 .. 15000 rpm at 151 speeds,
+  orders 1, 2.
 
 Each drawing runs in a process of its own (one thread), the two trees in turn, ``--repeat``
 times; each process loads its tree's results from a pickle made once per tree (in
@@ -35,10 +42,11 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-FIGURES = ("ucs-fan-all", "ucs-plain", "ucs-fan-e10", "campbell-fan", "campbell-chain40")
+FIGURES = ("ucs-fan-all", "ucs-plain", "ucs-fan-e10", "campbell-fan", "campbell-chain40", "campbell-chain60",
+           "campbell-report6", "campbell-compressor")
 
 _CHILD = r'''
-import io, os, pickle, sys, time, tomllib
+import importlib, io, os, pickle, sys, time, tomllib
 from pathlib import Path
 os.environ["OMP_NUM_THREADS"] = "1"
 import matplotlib
@@ -62,9 +70,33 @@ def results():
            "campbell-fan": rdm.campbell(fan, rdm.rpm(np.linspace(0.0, 9000.0, 121)), orders=(1, 2))}
     sys.path.insert(0, str(tree / "tests"))
     from test_large_machine_cli import chained_gear_toml
-    chain = rdm.Model.from_dict(tomllib.loads(chained_gear_toml(40, 40)), source="chain.toml")
-    out["campbell-chain40"] = rdm.campbell(chain, rdm.rpm(np.linspace(0.0, 4500.0, 22)))
+    for rotors in (40, 60):
+        chain = rdm.Model.from_dict(tomllib.loads(chained_gear_toml(rotors, rotors)), source="chain.toml")
+        out[f"campbell-chain{rotors}"] = rdm.campbell(chain, rdm.rpm(np.linspace(0.0, 4500.0, 22)))
+    from test_report_estimate27r import CHANNELS
+    collect = importlib.import_module("rotordyn_modal.report.collect")   # (report.collect is also a function)
+    chain = rdm.Model.from_dict(tomllib.loads(chained_gear_toml(6, 6) + CHANNELS), source="chain.toml")
+    with rdm.long_work_allowed():
+        data = collect.collect(chain, collect.ReportInputs(standard="api684", mcs=rdm.rpm(3000.0), points=21))
+    out["campbell-report6"] = (data.results["campbell"], data.model_info["name"], data.inputs.range)
+    out["campbell-compressor"] = rdm.campbell(rdm.load_model(examples / "compressor_rotor.toml"),
+                                              rdm.rpm(np.linspace(0.0, 15000.0, 151)), orders=(1, 2))
     return out
+
+
+def draw(name, result):
+    """The figure drawn and saved as its users save it (the report page's by ``figure_png``)."""
+    if name == "campbell-report6":
+        from rotordyn_modal.report.render import campbell_top, figure_png
+        result, title, (low, high) = result
+        top = campbell_top(result)
+        figure_png(result.plot(title=title, freq_range=None if top is None else (None, top),
+                               operating=(low * 30 / np.pi, high * 30 / np.pi)))
+    elif name == "campbell-chain60":
+        from rotordyn_modal.report.render import figure_png
+        figure_png(result.plot(title="60 rotors chained by gears"), dpi=110)
+    else:
+        result.plot().savefig(io.BytesIO(), format="png", dpi=150)
 
 
 if not cache.exists():
@@ -76,8 +108,7 @@ warm.text(0.5, 0.5, "0123 mode")
 warm.savefig(io.BytesIO(), format="png")
 plt.close(warm)
 start = time.process_time()
-fig = result.plot()
-fig.savefig(io.BytesIO(), format="png", dpi=150)
+draw(name, result)
 print(time.process_time() - start)
 '''
 

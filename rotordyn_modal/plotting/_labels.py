@@ -458,14 +458,18 @@ def nearest_own_exit(box, label, others, size=(1.0, 1.0)) -> bool:
 
 
 def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0), obstacles=(), allowed=None,
-                   cost=None, bound=None):
+                   cost=None, bound=None, each=None):
     """The first of ``candidates`` inside ``frame`` and clear of every box in ``placed``.
 
     Boxes are (left, bottom, right, top) in one coordinate system; ``gap`` (along x, y) is
     kept from the boxes placed; ``obstacles`` (markers) are only not overlapped; ``allowed``
     (a function of a box, optional) must also say True (e.g. a leader line crossing no label,
-    no curve through the box: :meth:`CurveMap.free`). With ``cost`` (a function of a box),
-    the free candidate of least cost is taken instead of the first (the first of equals);
+    no curve through the box: :meth:`CurveMap.free`). ``each`` (optional), a function of an
+    (n, 4) array of candidates giving a mask (n,), must say True too: it is asked of a few
+    candidates at a time (:data:`_EACH_CHUNKS`), in their order, and ``allowed`` only of those
+    it passes (the tests of one box each, made on many boxes at once; the same answers). With
+    ``cost`` (a function of a box), the free candidate of least cost is taken instead of the
+    first (the first of equals);
     ``bound`` (a function of a box, not above its cost and not decreasing along the
     candidates) ends the search where no later candidate can cost less.
     The box taken is appended to ``placed``.
@@ -475,11 +479,13 @@ def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0
     tuple or None
     """
     best = None
-    for k in np.nonzero(_inside_and_clear(candidates, placed, gap, frame, obstacles))[0]:
+    clear = np.nonzero(_inside_and_clear(candidates, placed, gap, frame, obstacles))[0]
+    passed = _passed_in_chunks(candidates, clear, each)
+    for n, k in enumerate(clear):
         candidate = candidates[k]
         if best is not None and bound is not None and bound(candidate) >= best[0]:
             break
-        if allowed is None or allowed(candidate):
+        if (passed is None or passed(n)) and (allowed is None or allowed(candidate)):
             if cost is None:
                 best = (0.0, candidate)
                 break
@@ -490,6 +496,27 @@ def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0
         return None
     placed.append(best[1])
     return best[1]
+
+
+#: :func:`first_free_box` asks its ``each`` about 8 candidates, then 24, then 64 at a time
+#: (the box taken is often among the first few)
+_EACH_CHUNKS = (8, 24, 64)
+
+
+def _passed_in_chunks(candidates, indices, each):
+    """``passed(n)``: ``each``'s verdict on ``candidates[indices[n]]``, asked of the candidates in
+    chunks (:data:`_EACH_CHUNKS`) as ``n`` reaches them; None without ``each``."""
+    if each is None:
+        return None
+    boxes, verdicts = as_boxes(candidates), []
+
+    def passed(n):
+        while n >= len(verdicts):
+            done = len(verdicts)
+            size = next((c for c in _EACH_CHUNKS if c > done), _EACH_CHUNKS[-1])
+            verdicts.extend(np.asarray(each(boxes[indices[done:done + size]]), bool).reshape(-1).tolist())
+        return verdicts[n]
+    return passed
 
 
 def _inside_and_clear(candidates, placed, gap, frame, obstacles):
@@ -897,6 +924,43 @@ def cuts(segments, origin, size, start, end, keep=None, bounds=None) -> int:
         u = (ap[:, 0] * t[:, 1] - ap[:, 1] * t[:, 0]) / denominator
         v = (ap[:, 0] * r[1] - ap[:, 1] * r[0]) / denominator
     return int(np.count_nonzero((denominator != 0) & (u >= 0) & (u <= 1) & (v >= 0) & (v < 1)))
+
+
+def cuts_each(segments, origin, size, starts, end, keep=None, bounds=None):
+    """:func:`cuts` of each segment ``starts[k] -> end`` (``starts`` (n, 2)) at once: counts (n,),
+    the same numbers (each segment's entry into ``keep`` is :func:`_entry`'s, one by one; the
+    rest the same operations on arrays, the segments near each leader tested, as ``bounds`` has
+    :func:`cuts` test them)."""
+    starts = np.asarray(starts, float).reshape(-1, 2)
+    counts = np.zeros(len(starts), np.int64)
+    if not len(starts) or not len(segments):
+        return counts
+    to_px, origin = np.array(size), np.array(origin)
+    p, q = origin + starts * to_px, origin + np.asarray(end, float) * to_px
+    if keep is not None:
+        keep = np.r_[origin + np.asarray(keep[:2], float) * to_px, origin + np.asarray(keep[2:], float) * to_px]
+        q = p + np.array([_entry(a, q, keep) for a in p])[:, None] * (q - p)
+    else:
+        q = np.broadcast_to(q, p.shape)
+    asked = ~np.all(np.abs(p - q) <= 1e-8 + 1e-5 * np.abs(q), axis=1)
+    p, q = p[asked], q[asked]
+    if bounds is not None:
+        low, high = np.minimum(p, q) - _BOUNDS_MARGIN, np.maximum(p, q) + _BOUNDS_MARGIN
+        # those near any of the leaders first (a segment near one is near their span), then each leader's
+        some = np.flatnonzero(np.all((bounds[1] >= low.min(axis=0, initial=np.inf))
+                                     & (bounds[0] <= high.max(axis=0, initial=-np.inf)), axis=1))
+        segments, lo, hi = segments[some], bounds[0][some], bounds[1][some]
+        near = np.all((hi[None] >= low[:, None]) & (lo[None] <= high[:, None]), axis=2)   # (n, m)
+    else:
+        near = True
+    r, a, t = (q - p)[:, None, :], segments[None, :, :2], segments[None, :, 2:] - segments[None, :, :2]
+    denominator = r[..., 0] * t[..., 1] - r[..., 1] * t[..., 0]
+    ap = a - p[:, None, :]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = (ap[..., 0] * t[..., 1] - ap[..., 1] * t[..., 0]) / denominator
+        v = (ap[..., 0] * r[..., 1] - ap[..., 1] * r[..., 0]) / denominator
+    counts[asked] = np.count_nonzero(near & (denominator != 0) & (u >= 0) & (u <= 1) & (v >= 0) & (v < 1), axis=1)
+    return counts
 
 
 def _entry(start, end, box) -> float:
@@ -1344,6 +1408,12 @@ _BELOW = 2.0
 
 
 def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False, split=1, straddle=()):
+    """:func:`boxes_around_array` as a :class:`BoxList`."""
+    return BoxList(boxes_around_array(x, y, w, h, pad, clear, rows, columns, across, split, straddle))
+
+
+def boxes_around_array(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False, split=1,
+                       straddle=()):
     """Boxes of size ``w x h`` on a grid around the point ``(x, y)``, nearest first.
 
     Rows are centred on the point's height and a little more than ``pad`` apart (so that
@@ -1365,7 +1435,8 @@ def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS,
 
     Returns
     -------
-    list of (left, bottom, right, top)
+    numpy.ndarray
+        (n, 4): left, bottom, right, top.
     """
     pad = 1.25 * pad
     steps = np.arange(2 * columns - 1) * (w + pad) / 2
@@ -1380,7 +1451,7 @@ def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS,
     boxes = np.column_stack([lefts, bottoms, lefts + w, bottoms + h])
     du = np.maximum(np.maximum(boxes[:, 0] - x, x - boxes[:, 2]), 0.0)
     dv = np.maximum(np.maximum(boxes[:, 1] - y, _BELOW * (y - boxes[:, 3])), 0.0)
-    return BoxList(boxes[np.argsort(np.hypot(du, dv), kind="stable")])
+    return boxes[np.argsort(np.hypot(du, dv), kind="stable")]
 
 
 class BoxList(list):
@@ -1395,6 +1466,20 @@ class BoxList(list):
     def taken(self, mask) -> "BoxList":
         """The boxes where ``mask`` (n,) is True, in order."""
         return BoxList(self.array[mask])
+
+
+class BoxRows:
+    """Boxes (left, bottom, right, top) as an (n, 4) array (``array``), read one by one as tuples
+    made when asked (:func:`first_free_box` reads few of many; a :class:`BoxList` makes every tuple)."""
+
+    def __init__(self, array):
+        self.array = np.asarray(array, float).reshape(-1, 4)
+
+    def __len__(self):
+        return len(self.array)
+
+    def __getitem__(self, k):
+        return tuple(self.array[k].tolist())
 
 
 def as_boxes(boxes):
@@ -1750,6 +1835,13 @@ def touching_groups(centres, within, chain=True, beside=None):
 def nearest_in(box, point):
     """The point of ``box`` nearest ``point``: where a leader line from ``point`` meets the box."""
     return min(max(point[0], box[0]), box[2]), min(max(point[1], box[1]), box[3])
+
+
+def nearest_each(boxes, point):
+    """:func:`nearest_in` of each of ``boxes`` (n, 4) at once: the points (n, 2), the same numbers."""
+    boxes = as_boxes(boxes)
+    return np.column_stack([np.minimum(np.maximum(point[0], boxes[:, 0]), boxes[:, 2]),
+                            np.minimum(np.maximum(point[1], boxes[:, 1]), boxes[:, 3])])
 
 
 def operating_band(ax, low, high, label, vertical=True, edge=True, gid=None):

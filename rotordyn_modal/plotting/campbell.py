@@ -5,10 +5,11 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, box_distances, boxes_around, column_positions, cuts,
-                      draw_time_layout, edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any,
-                      crosses_segments, font_points, lay_out_again_when, operating_band, segment_bounds, set_if_changed,
-                      text_size, _drawn_segments, _overlap, _ROW_SPLIT, _short_orders, touching_groups)
+from ._labels import (ANCHOR_POINTS, BoxRows, CurveMap, box_distance, box_distances, boxes_around_array,
+                      column_positions, crossing_pairs, crosses_any, cuts, cuts_each, draw_time_layout,
+                      edge_label_boxes, exits_of_orders, first_free_box, font_points, lay_out_again_when,
+                      nearest_each, nearest_in, operating_band, segment_bounds, set_if_changed, text_size,
+                      _drawn_segments, _overlap, _ROW_SPLIT, _segments_crossed, _short_orders, touching_groups)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -784,7 +785,7 @@ class _CampbellLabels:
         ends = self._reset_mode_texts()
         for i, end in enumerate(ends):      # (curves ending inside the axes: labelled there, by place)
             if end is not None and end[0] == "inside":
-                set_if_changed(self.mode_texts[i], visible=False)
+                self._set(self.mode_texts[i], visible=False)
         self._beside(renderer, [i for i, end in enumerate(ends) if end is not None and end[0] == "right"], ends)
         if self._reach(renderer) > reach:       # the right-edge labels alone ask for room: the rest waits
             return True
@@ -808,6 +809,7 @@ class _CampbellLabels:
         self.to_u, self.to_v = 1.0 / max(box.width, 1.0), 1.0 / max(box.height, 1.0)
         self.points = renderer.points_to_pixels(1.0)
         self.to_axes = (self.ax.transData + self.ax.transAxes.inverted()).transform
+        self.critical_groups = None         # (:meth:`_critical_groups`, for these scales)
 
     def _text(self, text, gid=None, va="bottom", fontsize=_FONT, visible=False, x=0.5, clip_on=True):
         return self.ax.text(x, 0.5, text, transform=self.ax.transAxes, fontsize=fontsize, ha="left", va=va,
@@ -831,7 +833,9 @@ class _CampbellLabels:
         self.curves = CurveMap(ax, renderer, skip=self.leaders + self.critical_leaders + self.key_leaders,
                                units="axes")
         self.renderer, self.mode_map = renderer, None
+        self.recorded = []          # the first run's settings, in order (:meth:`_set`)
         placed = self._place_all(renderer)
+        first, self.recorded = (self.recorded, self.leader_lines, self.shared, placed), None
         unlabelled = self._unlabelled_critical() if self.critical_texts else []
         if self._orders_near(unlabelled, renderer):
             # an order line's label took the only room beside a critical speed's circle
@@ -849,7 +853,7 @@ class _CampbellLabels:
                     break
             else:
                 if tried:
-                    placed = self._place_all(renderer)
+                    placed = self._replayed(*first)
         self._place_note(renderer, placed, self._marker_boxes())
         self._name_mentioned()
         self._place_none_note(renderer, placed, self._marker_boxes())
@@ -865,13 +869,30 @@ class _CampbellLabels:
         ends = self._reset_mode_texts()
         inside = [i for i, end in enumerate(ends) if end is not None and end[0] == "inside"]
         for i in inside:
-            set_if_changed(self.mode_texts[i], visible=False)
+            self._set(self.mode_texts[i], visible=False)
         self._beside(renderer, [i for i, end in enumerate(ends) if end is not None and end[0] == "right"], ends)
         self._place_orders(renderer, placed, smaller=bool(reserved))
         del placed[:len(reserved)]
         markers = self._marker_boxes()
         self._inside(renderer, inside, ends, placed, markers)
         self._place_critical(renderer, placed, markers)
+        return placed
+
+    def _set(self, artist, **properties):
+        """:func:`~._labels.set_if_changed`, the call kept while :attr:`recorded` is a list."""
+        if self.__dict__.get("recorded") is not None:
+            self.recorded.append((artist, properties))
+        set_if_changed(artist, **properties)
+
+    def _replayed(self, recorded, leader_lines, shared, placed):
+        """The labels as a first :meth:`_place_all` (no box reserved) left them, its settings
+        ``recorded`` made again in their order, and the boxes it took (``placed``): that run
+        again would make the same settings, since it depends on nothing a run sets but what it
+        sets itself first; the artists it does not set keep what the last run left them, as
+        they would. (compressor_rotor's retry ran :meth:`_place_all` a third time for this.)"""
+        for artist, properties in recorded:
+            set_if_changed(artist, **properties)
+        self.leader_lines, self.shared = leader_lines, shared
         return placed
 
     def _orders_shown(self):
@@ -944,10 +965,10 @@ class _CampbellLabels:
         taken = edge_label_boxes(ax, exits, _FONT, renderer, placed, self.curves, along=True, smaller=smaller)
         for text, item in zip(self.order_texts, taken + [None] * (len(self.order_texts) - len(taken))):
             if item is None:
-                set_if_changed(text, visible=False)
+                self._set(text, visible=False)
                 continue
             label, (left, low, _, _) = item
-            set_if_changed(text, text=label.text, color=label.color, position=(left, low), rotation=label.angle,
+            self._set(text, text=label.text, color=label.color, position=(left, low), rotation=label.angle,
                            fontsize=label.fontsize or font_points(_FONT), visible=True)
         self._place_keys(renderer, _unnamed(exits, [label for label, _ in taken]))
 
@@ -994,27 +1015,27 @@ class _CampbellLabels:
             right_of = box[2] + gap
             start = min(max(middle, box[0]), box[2])
             end = min(exits, key=lambda e: abs(e - start))
-            set_if_changed(self.key_leaders[shown], xdata=[(end - frame.x0) / frame.width, (start - frame.x0) / frame.width],
+            self._set(self.key_leaders[shown], xdata=[(end - frame.x0) / frame.width, (start - frame.x0) / frame.width],
                            ydata=[1.0, (bottom - frame.y0) / frame.height], color=members[0].color, visible=True)
-            set_if_changed(text, text=words, color=members[0].color, position=((box[0] - frame.x0) / frame.width,
+            self._set(text, text=words, color=members[0].color, position=((box[0] - frame.x0) / frame.width,
                                                                                (bottom - frame.y0) / frame.height),
                            rotation=0.0, fontsize=font_points(_FONT), visible=True)
             shown += 1
         for text, leader in zip(self.key_texts[shown:], self.key_leaders[shown:]):
-            set_if_changed(text, visible=False)
-            set_if_changed(leader, visible=False)
+            self._set(text, visible=False)
+            self._set(leader, visible=False)
 
     # -- modes ---------------------------------------------------------------------------
     def _reset_mode_texts(self):
         """Each mode label's own words again (a label shared at the last drawing), the labels and
         leaders of curves not in view hidden; the curves' ends (:meth:`_visible_end`)."""
         for text, m in zip(self.mode_texts, self.modes):
-            set_if_changed(text, text=f"mode {self.result.modes[m]}")
+            self._set(text, text=f"mode {self.result.modes[m]}")
         ends = [self._visible_end(m) for m in self.modes]
         for i, end in enumerate(ends):
             if end is None:
-                set_if_changed(self.mode_texts[i], visible=False)
-                set_if_changed(self.leaders[i], visible=False)
+                self._set(self.mode_texts[i], visible=False)
+                self._set(self.leaders[i], visible=False)
         return ends
 
     def _visible_end(self, m):
@@ -1062,13 +1083,13 @@ class _CampbellLabels:
             members = [indices[g] for g in group]
             colours = [self._colour(self.modes[i], ends[i][2]) for i in members]
             for i, colour in zip(members, colours):
-                set_if_changed(self.leaders[i], xdata=[1.0, 1.0 + stub, 1.0 + leader],
+                self._set(self.leaders[i], xdata=[1.0, 1.0 + stub, 1.0 + leader],
                                ydata=[ends[i][1], ends[i][1], centre], color=colour, visible=True)
-                set_if_changed(self.mode_texts[i], visible=False)
+                self._set(self.mode_texts[i], visible=False)
             numbers = [self.result.modes[self.modes[i]] for i in members]
             if len(numbers) > 1:
                 self.shared.append((self.mode_texts[members[0]], numbers))
-            set_if_changed(self.mode_texts[members[0]], text=_mode_words(numbers), position=(1.0 + leader + pad, centre),
+            self._set(self.mode_texts[members[0]], text=_mode_words(numbers), position=(1.0 + leader + pad, centre),
                            va="center", ha="left", color=colours[0] if len(set(colours)) == 1 else _SHARED_COLOUR,
                            visible=True, clip_on=False)
 
@@ -1088,9 +1109,9 @@ class _CampbellLabels:
                                           placed, markers, (0.0, 0.0))
             self._show_leader(self.leaders[i], leader, self._colour(self.modes[i], ends[i][2]))
             if box is None:
-                set_if_changed(text, visible=False)
+                self._set(text, visible=False)
                 continue
-            set_if_changed(text, position=(box[0], box[1] + h / 2), va="center", ha="left", clip_on=True,
+            self._set(text, position=(box[0], box[1] + h / 2), va="center", ha="left", clip_on=True,
                            color=self._colour(self.modes[i], ends[i][2]), visible=True)
 
     def _label_box(self, anchor, near, gap, placed, markers, clear, own_nearest=False, wide=False):
@@ -1112,35 +1133,57 @@ class _CampbellLabels:
         margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
         frame = (margin_u, margin_v, 1 - margin_u, 1 - margin_v)
 
-        def free(box, leader=False):
-            return self.curves.free(box, keep) and (not own_nearest or self._nearest_own(box, anchor, markers, leader)) \
-                and not crosses_any(self._leader_array(), [box])
+        markers_array = np.asarray(markers, float).reshape(-1, 4)
 
-        box = None if wide else first_free_box(near, placed, gap, frame, obstacles=markers, allowed=free)
+        def free(boxes, leader=False):
+            # each of the boxes (n, 4): no curve through it, naming its own circle, on no leader
+            ok = self.curves.free_each(boxes, keep)
+            if own_nearest:
+                ok &= self._nearest_own_each(boxes, anchor, markers, leader)
+            drawn_leaders = self._leader_array()
+            if len(drawn_leaders):
+                ok &= ~crossing_pairs(drawn_leaders, boxes).any(axis=0)
+            return ok
+
+        box = None if wide else first_free_box(near, placed, gap, frame, obstacles=markers, each=free)
         if box is not None:
             return box, None
         w, h = near[0][2] - near[0][0], near[0][3] - near[0][1]
         to_px = np.array([1 / self.to_u, 1 / self.to_v] * 2)
         clear_px = max(clear[0] / self.to_u, clear[1] / self.to_v)
-        grid = [tuple(b) for b in (boxes_around(u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v,
-                                                _PAD_POINTS * self.points, clear_px + _PAD_POINTS * self.points,
-                                                split=_ROW_SPLIT).array / to_px).tolist()]
+        limit = _MOST_COST * h / self.to_v      # the farthest box [pixels]
+
+        def around(**options):
+            # the boxes (n, 4) of a grid around the anchor (boxes_around; axes fraction) and
+            # their distances (n,) [pixels] (box_distances: distance's numbers)
+            boxes = boxes_around_array(u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v,
+                                       _PAD_POINTS * self.points, clear_px + _PAD_POINTS * self.points,
+                                       split=_ROW_SPLIT, **options) / to_px
+            return boxes, box_distances(boxes * to_px, u / self.to_u, v / self.to_v)
+
+        grid, far = around()
         others = list(placed)
         others_array = np.asarray(others, float).reshape(-1, 4)      # (taken once: the checks run per box)
 
-        def leader_clear(box, drawn=True):
-            # nor through another marker: its end would touch that circle as much as its own
+        def leader_clear(boxes, drawn=True):
+            # each of the boxes (n, 4): its leader (from the box's point nearest the anchor) nor
+            # through another marker: its end would touch that circle as much as its own
             # (counter_rotating's '11/21.9' reached mode 1's circles through mode 2's). The leader
             # as drawn, stopping short of its own circle: to the centre it ran through the squares
             # of circles beside it, 5 to 9 pixels away, and unstable_cross_coupled --freq-max 150
             # labelled none of its 10 critical speeds under 140 Hz of empty axes. A leader
             # across curves (the last resort) only where it would not pass a neighbour that close
-            start = nearest_in(box, anchor)
-            end = self._short_of(start, anchor, clear_px) if drawn else anchor
-            return self._ends_nearest(self._short_of(start, anchor, clear_px), markers, clear_px) \
-                and free(box, leader=True) and not crosses_any([(start, anchor)], others_array) \
-                and not crosses_segments(start, anchor, self._leader_array()) \
-                and not crosses_any([(start, end)], markers)
+            starts = nearest_each(boxes, anchor)
+            short = self._short_of_each(starts, anchor, clear_px)
+            ok = self._ends_nearest_each(short, markers, clear_px) & free(boxes, leader=True)
+            to_anchor = np.column_stack([starts, np.broadcast_to(np.asarray(anchor, float), starts.shape)])
+            if len(others_array):
+                ok &= ~crossing_pairs(to_anchor, others_array).any(axis=1)
+            ok &= ~_segments_crossed(starts, anchor, self._leader_array())
+            if len(markers_array):
+                ok &= ~crossing_pairs(np.column_stack([starts, short]) if drawn else to_anchor,
+                                      markers_array).any(axis=1)
+            return ok
 
         def cost(box):
             start = nearest_in(box, anchor)
@@ -1148,7 +1191,7 @@ class _CampbellLabels:
                 + _CROSSING_COST * h / self.to_v * max(self.curves.crossings(start, anchor, keep),
                                                        self._mode_cuts(start, anchor, circle))
 
-        distances = {}          # of each box, asked for many times (sorting, bounds, costs)
+        distances = {}          # of each box, asked for many times (bounds, costs)
 
         def distance(box):
             if box not in distances:
@@ -1158,8 +1201,11 @@ class _CampbellLabels:
         radius = 0.5 * _MARKER_POINTS * self.points      # the circle's, as drawn
         circle = (u - radius * self.to_u, v - radius * self.to_v, u + radius * self.to_u, v + radius * self.to_v)
 
-        def uncrossed(box):
-            return leader_clear(box) and not self._mode_cuts(nearest_in(box, anchor), anchor, circle)
+        def uncrossed(boxes, ok):
+            # of the boxes (n, 4) the mask ``ok`` passes, those whose leaders cross no mode's curve
+            ok = ok.copy()
+            ok[ok] = self._mode_cuts_each(nearest_each(boxes[ok], anchor), anchor, circle) == 0
+            return ok
 
         # a leader across a mode's curve reads as pointing at that mode (compressor_rotor's
         # '11115' stood over mode 4's line, its leader across it): such a box only where no box
@@ -1167,43 +1213,53 @@ class _CampbellLabels:
         # critical speed lies on one; nor the curves it runs beside into the marker: the anchor's
         # own. The square of ANCHOR_POINTS exempts any curve near the anchor: mode 4's line, 7
         # pixels above the circle, was crossed inside it)
-        reach = [b for b in grid if distance(b) <= _MOST_COST * h / self.to_v]
+        reach = grid[far <= limit]
         across = set()
         if own_nearest:
             # boxes across the circle too, their leaders short and steep: between two circles on
             # one mode's line a box at a slant lies nearer the neighbour (counter_rotating's '490'
             # between circles 42 pixels either side)
-            across = [tuple(b) for b in (boxes_around(
-                u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v, _PAD_POINTS * self.points,
-                clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT, straddle=_ACROSS).array / to_px).tolist()]
+            boxes, distance_of = around(straddle=_ACROSS)
             # (above or below the circle, no curve through them but inside the circle)
-            across = {b for b in across if distance(b) <= _MOST_COST * h / self.to_v
-                      and (b[1] >= v + clear[1] or b[3] <= v - clear[1])}
-            reach = sorted(reach + list(across), key=distance)
+            kept = (distance_of <= limit) & ((boxes[:, 1] >= v + clear[1]) | (boxes[:, 3] <= v - clear[1]))
+            across = set(map(tuple, boxes[kept].tolist()))
+            # nearest first, the first of equals first (as sorted() by distance would order them)
+            both = np.concatenate([reach, np.asarray(list(across), float).reshape(-1, 4)])
+            reach = both[np.argsort(box_distances(both * to_px, u / self.to_u, v / self.to_v), kind="stable")]
+
+        def clear_of_curves(boxes):
+            # leader_clear, and a box across the circle with no curve through it but inside the circle
+            ok = leader_clear(boxes)
+            if across:
+                ok &= np.array([b not in across for b in map(tuple, boxes.tolist())], bool) \
+                    | self.curves.free_each(boxes, circle)
+            return uncrossed(boxes, ok)
+
         box = None if wide else first_free_box(
-            reach, placed, gap, frame, obstacles=markers, cost=distance, bound=distance,
-            allowed=lambda b: (b not in across or self.curves.free(b, circle)) and uncrossed(b))
+            BoxRows(reach), placed, gap, frame, obstacles=markers, cost=distance, bound=distance,
+            each=clear_of_curves)
         if box is None and not wide:
             # boxes across the marker, their leaders short and steep: compressor_rotor's '12938'
             # (0:15000:151) sits on mode 4 between modes 5 and 3, 6 and 8 pixels away; every
             # slanting leader crossed one of them, a leader straight up crosses mode 5 inside the
             # circle (its box beside the anchor was taken by the '1X compressor' label)
-            above = [tuple(b) for b in (boxes_around(
-                u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v, _PAD_POINTS * self.points,
-                clear_px + _PAD_POINTS * self.points, split=_ROW_SPLIT, straddle=_STRADDLE).array / to_px).tolist()]
+            above, distance_of = around(straddle=_STRADDLE)
             # (no curve through such a box but inside the circle: its own curves run on through it)
-            box = first_free_box([b for b in above if distance(b) <= _MOST_COST * h / self.to_v], placed, gap,
-                                 frame, obstacles=markers, allowed=lambda b: uncrossed(b) and self.curves.free(b, circle),
+            box = first_free_box(BoxRows(above[distance_of <= limit]), placed, gap,
+                                 frame, obstacles=markers,
+                                 each=lambda b: uncrossed(b, leader_clear(b) & self.curves.free_each(b, circle)),
                                  cost=distance, bound=distance)
         if box is None and own_nearest:
             if not wide:
                 return None, None
-            box = self._wider_box(anchor, (w, h), clear_px, set(grid), placed, gap, frame, markers, uncrossed)
+            box = self._wider_box(anchor, (w, h), clear_px, set(map(tuple, grid.tolist())), placed, gap, frame,
+                                  markers,
+                                   lambda b: uncrossed(b, leader_clear(b)))
             if box is None:
                 return None, None
         if box is None:
-            box = first_free_box(grid, placed, gap, frame, obstacles=markers,
-                                 allowed=lambda b: leader_clear(b, drawn=False), cost=cost, bound=distance)
+            box = first_free_box(BoxRows(grid), placed, gap, frame, obstacles=markers,
+                                 each=lambda b: leader_clear(b, drawn=False), cost=cost, bound=distance)
         if box is None:
             return None, None
         if cost(box) > max(_MOST_COST * h / self.to_v, distance(box)):
@@ -1216,7 +1272,7 @@ class _CampbellLabels:
     def _wider_box(self, anchor, size, clear_px, tried, placed, gap, frame, markers, uncrossed):
         """A critical speed's label box (axes fraction) farther to the side than :meth:`_label_box`'s
         grid reaches (out to :data:`_WIDE_COLUMNS` label widths), within :data:`_MOST_COST` label
-        heights, nearest first, its leader crossing no curve (``uncrossed``); or None. The boxes
+        heights, nearest first, its leader crossing no curve (``uncrossed``, a mask of boxes); or None. The boxes
         ``tried`` already are left out. flexible_pump_on_mounts' '700' (0:3600:121) crossed mode
         5's line from every box of the grid; a box 2.5 label widths right, between the curves, is clear.
 
@@ -1232,41 +1288,46 @@ class _CampbellLabels:
         u, v = anchor[0] / self.to_u, anchor[1] / self.to_v
         w, h = size[0] / self.to_u, size[1] / self.to_v
         pad = _PAD_POINTS * self.points
-        boxes = boxes_around(u, v, w, h, pad, clear_px + pad, columns=_WIDE_COLUMNS, split=_ROW_SPLIT).array
+        boxes = boxes_around_array(u, v, w, h, pad, clear_px + pad, columns=_WIDE_COLUMNS, split=_ROW_SPLIT)
         far = box_distances(boxes, u, v)
         scale = np.array([self.to_u, self.to_v] * 2)
         wide = [b for b in (tuple(b) for b in (boxes[far <= _MOST_COST * h] * scale).tolist()) if b not in tried]
-        return first_free_box(wide, placed, gap, frame, obstacles=markers, allowed=uncrossed)
+        return first_free_box(wide, placed, gap, frame, obstacles=markers, each=uncrossed)
 
-    def _ends_nearest(self, end, markers, clear_px):
-        """Whether a leader's drawn ``end`` (axes fraction; ``clear_px`` [pixels] from its own circle's
-        centre) lies :data:`_NEAREST_OWN` times as far from the centre of every other marker
-        (``markers``: boxes, axes fraction): else it reads as pointing at that circle
-        (counter_rotating's '1663' ended at the join of the 1663 and 1700 rpm circles)."""
+    def _ends_nearest_each(self, ends, markers, clear_px):
+        """Whether each of the leaders' drawn ``ends`` ((n, 2), axes fraction; ``clear_px`` [pixels]
+        from its own circle's centre) lies :data:`_NEAREST_OWN` times as far from the centre of
+        every other marker (``markers``: boxes, axes fraction): else it reads as pointing at that
+        circle (counter_rotating's '1663' ended at the join of the 1663 and 1700 rpm circles).
+        Mask (n,); the leaders are tested at once, each with the numbers of one alone."""
+        ends = np.asarray(ends, float).reshape(-1, 2)
         if not len(markers):
-            return True
+            return np.ones(len(ends), bool)
         middle_u, middle_v, _ = self._marker_centres(markers)
-        du = (middle_u - end[0]) / self.to_u
-        dv = (middle_v - end[1]) / self.to_v
-        return bool(np.all(np.hypot(du, dv) >= _NEAREST_OWN * clear_px))
+        du = (middle_u[None, :] - ends[:, :1]) / self.to_u
+        dv = (middle_v[None, :] - ends[:, 1:]) / self.to_v
+        return np.all(np.hypot(du, dv) >= _NEAREST_OWN * clear_px, axis=1)
 
-    def _nearest_own(self, box, anchor, markers, leader=False):
-        """Whether the label ``box`` (axes fraction) reads as naming its own circle (centre
-        ``anchor``) rather than one of the ``markers`` (boxes, axes fraction): without a leader, it
-        lies :data:`_NEAREST_OWN` times as far from every other circle's centre as from its own;
-        with one (``leader``), so, or :data:`_BESIDE_POINTS` from each.
+    def _nearest_own_each(self, boxes, anchor, markers, leader=False):
+        """Whether each of the label ``boxes`` ((n, 4), axes fraction) reads as naming its own
+        circle (centre ``anchor``) rather than one of the ``markers`` (boxes, axes fraction):
+        without a leader, it lies :data:`_NEAREST_OWN` times as far from every other circle's
+        centre as from its own; with one (``leader``), so, or :data:`_BESIDE_POINTS` from each.
         gear_machine's '1420' stood 13 pixels (150 dpi) from the 710 rpm circle and 18.5 from its
-        own at the end of its leader, and was read as the 710 rpm circle's speed."""
+        own at the end of its leader, and was read as the 710 rpm circle's speed. Mask (n,)."""
+        boxes = np.asarray(boxes, float).reshape(-1, 4)
         if not len(markers):
-            return True
+            return np.ones(len(boxes), bool)
         scale = np.array([self.to_u, self.to_v])
         centres = self._marker_centres(markers)[2]
-        low, high = np.array(box[:2]) / scale, np.array(box[2:]) / scale
+        low, high = boxes[:, :2] / scale, boxes[:, 2:] / scale
         point = np.asarray(anchor) / scale
-        own = float(np.hypot(*np.maximum(np.maximum(low - point, point - high), 0.0)))
-        near = np.hypot(*np.maximum(np.maximum(low - centres, centres - high), 0.0).T)
-        least = min(_NEAREST_OWN * own, _BESIDE_POINTS * self.points) if leader else _NEAREST_OWN * own
-        return bool(np.all(near >= least))
+        gaps = np.maximum(np.maximum(low - point, point - high), 0.0)
+        own = np.hypot(gaps[:, 0], gaps[:, 1])
+        gaps = np.maximum(np.maximum(low[:, None, :] - centres[None], centres[None] - high[:, None, :]), 0.0)
+        near = np.hypot(gaps[..., 0], gaps[..., 1])
+        least = np.minimum(_NEAREST_OWN * own, _BESIDE_POINTS * self.points) if leader else _NEAREST_OWN * own
+        return np.all(near >= least[:, None], axis=1)
 
     def _marker_centres(self, markers):
         """The centres of the ``markers`` (boxes, axes fraction): u and v (n,) [axes fraction] and
@@ -1297,10 +1358,29 @@ class _CampbellLabels:
         shorten = clear_px / max(float(np.hypot(*direction)), 1e-9)
         return (u + shorten * direction[0] * self.to_u, v + shorten * direction[1] * self.to_v)
 
+    def _short_of_each(self, starts, centre, clear_px):
+        """:meth:`_short_of` of each of ``starts`` (n, 2) at once: the ends (n, 2), the same numbers."""
+        u, v = centre
+        du, dv = (starts[:, 0] - u) / self.to_u, (starts[:, 1] - v) / self.to_v
+        shorten = clear_px / np.maximum(np.hypot(du, dv), 1e-9)
+        return np.column_stack([u + shorten * du * self.to_u, v + shorten * dv * self.to_v])
+
     def _mode_cuts(self, start, end, keep):
         """How many pieces of the curves but the order lines the segment ``start -> end`` crosses
         outside the marker's square ``keep`` (axes fraction, :func:`~._labels.cuts`); the curves'
         drawn segments are taken once per drawing."""
+        segments, origin, size, bounds = self._mode_map()
+        return cuts(segments, origin, size, start, end, keep, bounds=bounds)
+
+    def _mode_cuts_each(self, starts, end, keep):
+        """:meth:`_mode_cuts` of each segment ``starts[k] -> end`` (``starts`` (n, 2)) at once:
+        counts (n,), the same numbers (:func:`~._labels.cuts_each`)."""
+        segments, origin, size, bounds = self._mode_map()
+        return cuts_each(segments, origin, size, starts, end, keep, bounds=bounds)
+
+    def _mode_map(self):
+        """The drawn segments of the curves but the order lines [pixels], the axes' origin and size
+        [pixels] and the segments' bounds (:func:`~._labels.segment_bounds`), taken once per drawing."""
         if self.mode_map is None:      # place() sets it to None before any leader is placed
             ax = self.ax
             orders = [line for line in ax.get_lines() if line.get_gid() == "order-line"]
@@ -1308,16 +1388,14 @@ class _CampbellLabels:
             segments = _drawn_segments(ax, self.leaders + self.critical_leaders + self.key_leaders + orders,
                                        (frame.x0, frame.y0, frame.x1, frame.y1))
             self.mode_map = (segments, (frame.x0, frame.y0), (frame.width, frame.height), segment_bounds(segments))
-        segments, origin, size, bounds = self.mode_map
-        return cuts(segments, origin, size, start, end, keep, bounds=bounds)
+        return self.mode_map
 
-    @staticmethod
-    def _show_leader(line, leader, colour):
+    def _show_leader(self, line, leader, colour):
         if leader is None:
-            set_if_changed(line, visible=False)
+            self._set(line, visible=False)
             return
         (x0, y0), (x1, y1) = leader
-        set_if_changed(line, xdata=[x0, x1], ydata=[y0, y1], color=colour, visible=True)
+        self._set(line, xdata=[x0, x1], ydata=[y0, y1], color=colour, visible=True)
 
     # -- critical speeds -----------------------------------------------------------------
     def _marker_boxes(self):
@@ -1352,9 +1430,9 @@ class _CampbellLabels:
         j = group[0]
         text = self.critical_texts[j]
         for k in group[1:]:
-            set_if_changed(self.critical_texts[k], visible=False)
-            set_if_changed(self.critical_leaders[k], visible=False)
-        set_if_changed(text, text="/".join(dict.fromkeys(self.critical_words[k] for k in group)))
+            self._set(self.critical_texts[k], visible=False)
+            self._set(self.critical_leaders[k], visible=False)
+        self._set(text, text="/".join(dict.fromkeys(self.critical_words[k] for k in group)))
         u, v = self.to_axes((self.critical[0][j], self.critical[1][j]))
         own = [self.to_axes((self.critical[0][k], self.critical[1][k])) for k in group]
         w, h = self._size(text.get_text(), "xx-small", renderer)
@@ -1375,9 +1453,9 @@ class _CampbellLabels:
                 leader = self._group_leader(leader[0], own, (radius_u, radius_v))
         self._show_leader(self.critical_leaders[j], leader, "k")
         if box is None:
-            set_if_changed(text, visible=False)
+            self._set(text, visible=False)
             return False
-        set_if_changed(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)
+        self._set(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)
         return True
 
     def _group_leader(self, start, own, clear):
@@ -1432,11 +1510,12 @@ class _CampbellLabels:
         left = self._unlabelled_critical()
         entry = _critical_entry(self.ax)
         if entry is not None:
-            set_if_changed(entry, text="critical speed")
+            self._set(entry, text="critical speed")
         if not left:
-            set_if_changed(note, visible=False)
+            self._set(note, visible=False)
             return
-        centre = np.mean([self.to_axes((self.critical[0][k], self.critical[1][k])) for k in left], axis=0)
+        # every point in one transform (the 60-rotor chain's 16,864 one by one took seconds), the same numbers
+        centre = np.mean(self.to_axes(np.column_stack(self.critical)[left]), axis=0)
         margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
         frame = (margin_u, margin_v, 1 - margin_u, 1 - margin_v)
         gap = (_PAD_POINTS * self.points * self.to_u, _PAD_POINTS * self.points * self.to_v)
@@ -1449,22 +1528,34 @@ class _CampbellLabels:
             # touching the left spine on the flexible pump's Campbell); the others as they were
             lefts = np.maximum(lefts, _NOTE_MARGIN_POINTS * margin_u)
             bottoms = np.maximum(bottoms, _NOTE_MARGIN_POINTS * margin_v)
-            boxes = [(a, b, a + w, b + h) for a in lefts for b in bottoms
-                     if a + w <= 1 - _NOTE_MARGIN_POINTS * margin_u and b + h <= 1 - _NOTE_MARGIN_POINTS * margin_v]
-            boxes.sort(key=lambda box: np.hypot((box[0] + box[2]) / 2 - centre[0], (box[1] + box[3]) / 2 - centre[1]))
-            box = first_free_box(boxes, placed, gap, frame, obstacles=markers,
-                                 allowed=lambda box: self.curves.free(box) and not crosses_any(self.leader_lines, [box]))
+            # every left with every bottom (bottoms the inner loop), nearest the centre first (a
+            # stable sort: the first of equals first), tested many at a time
+            a, b = np.repeat(lefts, len(bottoms)), np.tile(bottoms, len(lefts))
+            inside = (a + w <= 1 - _NOTE_MARGIN_POINTS * margin_u) & (b + h <= 1 - _NOTE_MARGIN_POINTS * margin_v)
+            boxes = np.column_stack([a, b, a + w, b + h])[inside]
+            boxes = boxes[np.argsort(np.hypot((boxes[:, 0] + boxes[:, 2]) / 2 - centre[0],
+                                              (boxes[:, 1] + boxes[:, 3]) / 2 - centre[1]), kind="stable")]
+            box = first_free_box(BoxRows(boxes), placed, gap, frame, obstacles=markers,
+                                 each=self._off_curves_and_leaders)
             if box is not None:
-                set_if_changed(note, text=words, position=(box[0], box[1]), va="bottom", ha="left",
+                self._set(note, text=words, position=(box[0], box[1]), va="bottom", ha="left",
                                clip_on=True, visible=True)
                 if n < len(texts) - 1:          # the list by mode (the last wording is the count alone)
                     self.note_modes = {int(self.critical_modes[k]) for k in left}
                 return
-        set_if_changed(note, visible=False)
+        self._set(note, visible=False)
         if entry is not None:           # on two lines: one as long as the note's reached past a small figure
             total = len(self._in_view())
-            set_if_changed(entry, text=f"critical speed ({total - len(left)} of {total} labelled,\n"
+            self._set(entry, text=f"critical speed ({total - len(left)} of {total} labelled,\n"
                                        "all in the critical-speeds table)")
+
+    def _off_curves_and_leaders(self, boxes):
+        """Whether each of ``boxes`` ((n, 4), axes fraction) holds no curve and no leader line
+        runs through it: mask (n,)."""
+        ok = self.curves.free_each(boxes)
+        if len(self.leader_lines):
+            ok &= ~crossing_pairs(np.asarray(self.leader_lines, float).reshape(-1, 4), boxes).any(axis=0)
+        return ok
 
     def _name_mentioned(self):
         """The compact right-edge labels (:func:`_mode_words`) that leave out a mode the note
@@ -1473,7 +1564,7 @@ class _CampbellLabels:
         for text, numbers in self.shared:
             mentioned = self.note_modes.intersection(int(n) for n in numbers)
             if mentioned:
-                set_if_changed(text, text=_mode_words(numbers, mentioned))
+                self._set(text, text=_mode_words(numbers, mentioned))
 
     def _place_none_note(self, renderer, placed, markers):
         """Where the sweep has no critical speed (no order line crosses a mode): the note
@@ -1494,14 +1585,20 @@ class _CampbellLabels:
                              allowed=lambda box: self.curves.free(box) and not crosses_any(self.leader_lines, [box]))
         left, bottom = (box[0], box[1]) if box is not None else (frame[0], frame[3] - h)
         placed.append((left, bottom, left + w, bottom + h))
-        set_if_changed(note, position=(left, bottom), va="bottom", ha="left", clip_on=True, visible=True)
+        self._set(note, position=(left, bottom), va="bottom", ha="left", clip_on=True, visible=True)
 
     def _critical_groups(self):
         """The critical speeds' indices in groups whose circles read as one (each centre closer
         than half :data:`_MARKER_POINTS` to the group's first, in order of speed; not a chain,
         so that a group stays within one circle: :func:`~._labels.touching_groups`), each in
         order of speed: one label names the group ('2842/2855'), so that two labels never print
-        over each other at one place."""
+        over each other at one place. Found once for the scales (:meth:`_set_scales`)."""
+        if self.__dict__.get("critical_groups") is None:
+            self.critical_groups = self._grouped_critical()
+        return self.critical_groups
+
+    def _grouped_critical(self):
+        """:meth:`_critical_groups`, found."""
         points = np.array([self.to_axes((s, f)) for s, f in zip(*self.critical)]).reshape(-1, 2) \
             / np.array([self.to_u, self.to_v])
         order = np.argsort(self.critical[0], kind="stable")

@@ -94,13 +94,20 @@ def import_graph(module_level_only: bool = False) -> dict[str, set[str]]:
 
 
 @functools.lru_cache(maxsize=None)
+def _tree(path: Path) -> ast.Module:
+    """The syntax tree of a file of the package, parsed once per process for the import graphs
+    and the function lengths (read only: walked, never changed)."""
+    return ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+
+
+@functools.lru_cache(maxsize=None)
 def _import_graph(module_level_only: bool) -> dict[str, set[str]]:
     """:func:`import_graph`, parsed once per process (the package's files do not change during
     a test run; each test gets its own copy)."""
     known = modules()
     graph = {}
     for name, path in known.items():
-        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        tree = _tree(path)
         package = name if path.name == "__init__.py" else name.rpartition(".")[0]
         nodes = _module_level(tree) if module_level_only else ast.walk(tree)
         graph[name] = set().union(*(_targets(node, package, known) for node in nodes)) - {name}
@@ -225,7 +232,7 @@ def longest_functions(count: int = 10) -> list[tuple[int, int, str, str]]:
     """The ``count`` longest functions: (lines, lines without the docstring, file:line, name)."""
     rows = []
     for path in sorted(PACKAGE.rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(_tree(path)):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 body = node.body[1:] if ast.get_docstring(node) is not None and len(node.body) > 1 else node.body
                 where = f"{path.relative_to(PACKAGE.parent)}:{node.lineno}"

@@ -311,11 +311,28 @@ def gear_runup():
     return result, critical
 
 
-def test_runup_phase_is_a_joined_unwrapped_line_and_critical_lines_are_labelled(gear_runup):
-    import matplotlib.pyplot as plt
+@pytest.fixture(scope="module")
+def gear_runup_figure(gear_runup):
+    """``gear_runup_figure()``: the run-up's figure of sensor acc-top-z with its critical speeds,
+    plotted once for the four tests that measure it (they draw it and read it, and change
+    nothing), on a canvas of its own (a figure pyplot closed has none)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     result, critical = gear_runup
     fig = result.plot(sensor="acc-top-z", critical=critical)
+
+    def get():
+        if not hasattr(fig.canvas, "get_renderer"):
+            FigureCanvasAgg(fig)
+        return fig
+    return get
+
+
+def test_runup_phase_is_a_joined_unwrapped_line_and_critical_lines_are_labelled(gear_runup, gear_runup_figure):
+    import matplotlib.pyplot as plt
+
+    result, critical = gear_runup
+    fig = gear_runup_figure()
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     phase_ax, = [ax for ax in fig.axes if "phase" in ax.get_ylabel().lower()]
@@ -341,7 +358,7 @@ def test_runup_phase_is_a_joined_unwrapped_line_and_critical_lines_are_labelled(
     plt.close(fig)
 
 
-def test_no_curve_runs_through_a_critical_speed_label(gear_runup):
+def test_no_curve_runs_through_a_critical_speed_label(gear_runup, gear_runup_figure):
     """Issue 27: the run-up's critical-speed labels were placed clear of each other only: the
     sensor's signal and the order tracks ran through them. Measured on the drawn figure
     (``label_geometry``): neither crosses a label's glyphs (where critical lines crowd closer
@@ -352,7 +369,7 @@ def test_no_curve_runs_through_a_critical_speed_label(gear_runup):
     from label_geometry import crossings, curve_segments, glyph_box
 
     result, critical = gear_runup
-    fig = result.plot(sensor="acc-top-z", critical=critical)
+    fig = gear_runup_figure()
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     checked = 0
@@ -472,14 +489,14 @@ def test_runup_phase_axis_has_readable_ticks(monkeypatch, swing):
     plt.close(fig)
 
 
-def test_runup_waterfall_shows_its_content_only(gear_runup):
+def test_runup_waterfall_shows_its_content_only(gear_runup, gear_runup_figure):
     """The waterfall's frequency axis ends within 1.5 times the highest frequency where the
     spectrum (or a critical speed) is above 1e-3 of the largest, and nothing above that floor
     lies beyond it."""
     import matplotlib.pyplot as plt
 
     result, critical = gear_runup
-    fig = result.plot(sensor="acc-top-z", critical=critical)
+    fig = gear_runup_figure()
     ax, = [a for a in fig.axes if a.get_title() == "Waterfall"]
     fall = result.waterfall("acc-top-z")
     spectrum = fall.amplitude.max(axis=0)
@@ -491,14 +508,14 @@ def test_runup_waterfall_shows_its_content_only(gear_runup):
     plt.close(fig)
 
 
-def test_every_simulation_axis_has_one_unit(gear_runup):
+def test_every_simulation_axis_has_one_unit(gear_runup, gear_runup_figure):
     """Degrees and millimetres (and any other pair of units) never share an axis."""
     import matplotlib.pyplot as plt
 
     result, critical = gear_runup
     model = rdm.load_model(EXAMPLES / "gear_machine.toml")
     constant = rdm.simulate(model, 0.3, rdm.rpm(1500), samples=301)
-    for fig in (result.plot(sensor="acc-top-z", critical=critical), constant.plot()):
+    for fig in (gear_runup_figure(), constant.plot()):
         for ax in fig.axes:
             if ax.get_ylabel():
                 assert len(UNIT.findall(ax.get_ylabel())) == 1, ax.get_ylabel()

@@ -13,3 +13,21 @@ def best_time(function, repeat: int) -> float:
         function()
         times.append(time.perf_counter() - start)
     return min(times)
+
+
+def print_base_ratio(name: str, base, this, width: int = 8) -> None:
+    """One line: ``name``, the base tree's and this tree's min / median / max [s] and the ratio
+    base / this (min, median, max over the pairs of one repeat; above 1: this tree is faster).
+
+    Parameters
+    ----------
+    base, this : sequence of float, same length
+        Seconds of each repeat, the two trees run in turn.
+    """
+    import numpy as np
+
+    base, this = np.asarray(base, float), np.asarray(this, float)
+    ratio = base / this
+    print(f"{name:{width}s} base {base.min():6.2f} {np.median(base):6.2f} {base.max():6.2f} s | "
+          f"this {this.min():6.2f} {np.median(this):6.2f} {this.max():6.2f} s | "
+          f"base/this {ratio.min():5.2f} {np.median(ratio):5.2f} {ratio.max():5.2f}", flush=True)

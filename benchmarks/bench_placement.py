@@ -39,7 +39,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
+from _timing import print_base_ratio  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 ROOT = Path(__file__).resolve().parent.parent
 FIGURES = ("ucs-fan-all", "ucs-plain", "ucs-fan-e10", "campbell-fan", "campbell-chain40", "campbell-chain60",
@@ -145,11 +145,7 @@ def main(argv=None):
         for _ in range(args.repeat):
             for label, tree in trees.items():
                 times[label].append(_run(tree, pickles[label], name))
-        base, this = np.array(times["base"]), np.array(times["this"])
-        ratio = base / this
-        print(f"{name:18s} base {base.min():6.2f} {np.median(base):6.2f} {base.max():6.2f} s | "
-              f"this {this.min():6.2f} {np.median(this):6.2f} {this.max():6.2f} s | "
-              f"base/this {ratio.min():5.2f} {np.median(ratio):5.2f} {ratio.max():5.2f}", flush=True)
+        print_base_ratio(name, times["base"], times["this"], width=18)
 
 
 if __name__ == "__main__":

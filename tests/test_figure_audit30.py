@@ -40,7 +40,7 @@ def test_the_campbell_diagram_and_the_ucs_map_group_circles_with_the_one_functio
     diagram without chains, so that a group stays within one circle; the UCS map through
     chains, circles side by side on two stiffness lines twice as far apart)."""
     assert campbell.touching_groups is _labels.touching_groups
-    assert "touching_groups(" in inspect.getsource(campbell._CampbellLabels._critical_groups)
+    assert "touching_groups(" in inspect.getsource(campbell._CampbellLabels._grouped_critical)   # (cached by _critical_groups)
     assert "touching_groups(" in inspect.getsource(ucs_map._touching)
 
 

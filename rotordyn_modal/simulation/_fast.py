@@ -947,8 +947,13 @@ FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_s
 INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
            "_add_bearing_forces", "_suspension_energy", "_center_of_mass",
            "rhs")
-#: compiled functions called only from other compiled functions: no wrapper for calls from Python
+#: compiled functions called only from other compiled functions: no wrapper for calls from Python.
+#: Not the film's kernel (``_sommerfeld_angle``, ``_film_force``): the flexible rotors' journal
+#: model compiles them too and calls ``_film_force`` from Python (``flexible_journal.FILM_FUNCTIONS``),
+#: and numba's on-disk cache keys a function by its file, name, code and types, not by its
+#: wrappers: whichever compiled first was loaded by the other, and the wrapperless kernel
+#: called from Python crashed the process (a segmentation fault)
 INTERNAL = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_interpolate", "_frame", "_relative",
-            "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now", "assemble_into",
+            "_bearing_stretch", "_tilt", "_bearing_now", "assemble_into",
             "_quadratic", "_solve_motion", "_solve_spd", "_solve_ordered", "_solve_order", "_rows_below",
             "_solve_mass")

@@ -208,10 +208,15 @@ def _eccentricities(system_films, state) -> str:
 _COMPILED: dict = {}
 
 
+#: the functions :func:`compiled_film_load` compiles (``_film_force`` is called from Python too:
+#: none of them may be compiled without its wrappers elsewhere, ``_fast.INTERNAL``)
+FILM_FUNCTIONS = (_sommerfeld_angle, _film_force, film_load)
+
+
 def compiled_film_load():
     """:func:`film_load` compiled by numba with the large-rotation model's own film kernel
     (:func:`rotordyn_modal.simulation._fast._film_force`, compiled in a namespace of its own)."""
     if "film_load" not in _COMPILED:
-        namespace = compile_together([_sommerfeld_angle, _film_force, film_load], {"np": np}, __name__)
+        namespace = compile_together(FILM_FUNCTIONS, {"np": np}, __name__)
         _COMPILED["film_load"], _COMPILED["film_force"] = namespace["film_load"], namespace["_film_force"]
     return _COMPILED["film_load"]

@@ -87,7 +87,7 @@ def implausible(model, units: str = "si") -> list[str]:
     -------
     list of str, each naming the model's source
     """
-    lines, sag, held = [], "", []
+    lines, sag, held, statics = [], "", [], {}
     if model.suspensions:
         try:   # a model whose numbers overflow here is refused by its analyses, not by a warning
             with np.errstate(all="ignore"):
@@ -97,7 +97,7 @@ def implausible(model, units: str = "si") -> list[str]:
             pass
     # one sag line for one mistake: the machine's on its suspensions already names the units
     if model.bearings and not sag:
-        held = _checked(_bearing_sag_lines, model, units) \
+        held = _checked(_bearing_sag_lines, model, units, statics) \
             if np.any(model.gravity) and model.dofs.n <= SAG_CHECK_DOF else []
         lines += held or (_checked(_low_rotor_mode_lines, model) if model.dofs.n <= LOW_MODE_CHECK_DOF
                           else _checked(_rigid_rotor_bound_lines, model, dense=False))
@@ -110,7 +110,7 @@ def implausible(model, units: str = "si") -> list[str]:
     if model.bearings and np.any(model.gravity):
         try:
             with np.errstate(all="ignore"):
-                lines += _journal_load_lines(model, units)
+                lines += _journal_load_lines(model, units, statics)
         except (np.linalg.LinAlgError, ValueError):
             pass
     # a mass far too large (g typed as kg) makes the radii of gyration small too: said once, by the sag
@@ -212,7 +212,18 @@ def _sag_line(model, units: str = "si") -> str:
             "is unlikely): is a stiffness in N/mm given as N/m, or a mass in g given as kg?")
 
 
-def _bearing_sag_lines(model, units: str = "si") -> list[str]:
+def _under_weight(model, statics=None):
+    """The static solution ``K q = weight`` of the checks (:func:`_static_stiffness`), or None
+    where nothing holds the weight; solved once for the dict ``statics`` (the sag and the
+    journals' loads read the same solution), on one BLAS thread (small dense work)."""
+    statics = {} if statics is None else statics
+    if "q" not in statics:
+        with one_blas_thread(72 * model.dofs.n ** 2):
+            statics["q"] = static_solution(_static_stiffness(model), weight_force(model))
+    return statics["q"]
+
+
+def _bearing_sag_lines(model, units: str = "si", statics=None) -> list[str]:
     """The warning about a rotor's static deflection in its bearings under gravity, or none: the
     motion of the rotor at each bearing point relative to the stator in the static solution
     ``K q = weight`` (:func:`_static_stiffness`): across the bearing and its pedestal's settling
@@ -226,8 +237,7 @@ def _bearing_sag_lines(model, units: str = "si") -> list[str]:
     and the check sees what else deflects: pedestals, another rotor's bearings, tables."""
     if all(b.coefficients.kind == "journal" and b.pedestal is None for b in model.bearings):
         return []                   # nothing but films, each within its clearance
-    stiffness = _static_stiffness(model)
-    q = static_solution(stiffness, weight_force(model))
+    q = _under_weight(model, statics)
     if q is None:
         return []
     lateral = transverse_axes(model.spin_axis).T                                    # (3, 2)
@@ -298,7 +308,7 @@ LOAD_FACTOR = 3.0
 LEAST_LOAD_SHARE = 0.05
 
 
-def _journal_load_lines(model, units: str = "si") -> list[str]:
+def _journal_load_lines(model, units: str = "si", statics=None) -> list[str]:
     """A line for each journal bearing whose given ``load`` differs from its share of its rotor's
     weight by more than :data:`LOAD_FACTOR` (a load in kN typed as N, 1000 times too small, or a
     load in N typed 1000 times too large, a mass in other units): the film's coefficients follow
@@ -312,7 +322,7 @@ def _journal_load_lines(model, units: str = "si") -> list[str]:
     is left out (its journals carry tooth or belt forces the weight does not tell), and so is a
     journal whose share is below :data:`LEAST_LOAD_SHARE` of the weight."""
     geared = {name for t in model.transmissions for name in (t.driver, t.driven)}
-    lines, solved = [], {}
+    lines = []
     for rotor in model.rotors:
         weight = _normal_weight(model, rotor.name)
         mates = [b for b in model.bearings if b.rotor == rotor.name]
@@ -321,10 +331,8 @@ def _journal_load_lines(model, units: str = "si") -> list[str]:
             continue
         shares = _lever_shares(model, rotor, mates)
         if shares is None and model.dofs.n <= SAG_CHECK_DOF:
-            if "q" not in solved:
-                with one_blas_thread(72 * model.dofs.n ** 2):
-                    solved["q"] = static_solution(_static_stiffness(model), weight_force(model))
-            shares = None if solved["q"] is None else [_reaction(model, b, solved["q"]) for b in mates]
+            q = _under_weight(model, statics)
+            shares = None if q is None else [_reaction(model, b, q) for b in mates]
         if shares is None:
             continue
         for b in given:

@@ -329,15 +329,6 @@ def _along_the_line(ax, label, others, fontsize, renderer, placed, curves, frame
     return None
 
 
-def _free_in_order(curves, candidates, indices, size):
-    """The ``indices`` of ``candidates`` (K, 4, 2) [pixels] whose outlines no curve crosses
-    (:meth:`CurveMap.free_outlines`, axes fraction: ``size`` [pixels]), in order, tested a
-    chunk at a time as they are asked for."""
-    for start in range(0, len(indices), _OUTLINE_CHUNK):
-        part = indices[start:start + _OUTLINE_CHUNK]
-        yield from part[curves.free_outlines(candidates[part] / size)]
-
-
 def _box_corners(box):
     """Corners (4, 2) of ``box`` (left, bottom, right, top), counter-clockwise."""
     return np.array([(box[0], box[1]), (box[2], box[1]), (box[2], box[3]), (box[0], box[3])], float)
@@ -399,7 +390,9 @@ class _Segments:
 
 
 def _free_chunks(curves, candidates, indices, size):
-    """:func:`_free_in_order` a chunk at a time: arrays of indices, in order."""
+    """The ``indices`` of ``candidates`` (K, 4, 2) [pixels] whose outlines no curve crosses
+    (:meth:`CurveMap.free_outlines`, axes fraction: ``size`` [pixels]), in order, a chunk of
+    :data:`_OUTLINE_CHUNK` at a time as they are asked for: arrays of indices."""
     for start in range(0, len(indices), _OUTLINE_CHUNK):
         part = indices[start:start + _OUTLINE_CHUNK]
         yield part[curves.free_outlines(candidates[part] / size)]
@@ -523,13 +516,21 @@ def _inside_and_clear(candidates, placed, gap, frame, obstacles):
     """Mask of the ``candidates`` inside ``frame``, ``gap`` clear of ``placed`` and not on ``obstacles``."""
     boxes = as_boxes(candidates)
     ok = (boxes[:, 0] >= frame[0]) & (boxes[:, 1] >= frame[1]) & (boxes[:, 2] <= frame[2]) & (boxes[:, 3] <= frame[3])
-    for others, (gap_u, gap_v) in ((placed, gap), (obstacles, (0.0, 0.0))):
-        if len(others):
-            other = np.asarray(others, float).reshape(1, -1, 4)
-            b = boxes[:, None, :]
-            ok &= ~np.any((b[..., 0] < other[..., 2] + gap_u) & (other[..., 0] < b[..., 2] + gap_u)
-                          & (b[..., 1] < other[..., 3] + gap_v) & (other[..., 1] < b[..., 3] + gap_v), axis=1)
+    for others, spacing in ((placed, gap), (obstacles, (0.0, 0.0))):
+        ok &= ~overlaps_any(boxes, others, spacing)
     return ok
+
+
+def overlaps_any(boxes, others, gap=(0.0, 0.0)):
+    """Mask (n,): whether each of ``boxes`` (n, 4) comes within ``gap`` (along x, y) of any of
+    ``others`` (boxes; :func:`_overlap` of every pair at once)."""
+    boxes = as_boxes(boxes)
+    if not len(others):
+        return np.zeros(len(boxes), bool)
+    gap_u, gap_v = gap
+    b, other = boxes[:, None, :], np.asarray(others, float).reshape(1, -1, 4)
+    return np.any((b[..., 0] < other[..., 2] + gap_u) & (other[..., 0] < b[..., 2] + gap_u)
+                  & (b[..., 1] < other[..., 3] + gap_v) & (other[..., 1] < b[..., 3] + gap_v), axis=1)
 
 
 def crosses_any(segments, boxes) -> bool:

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, BoxRows, CurveMap, box_distance, box_distances, boxes_around_array,
-                      column_positions, crossing_pairs, crosses_any, cuts, cuts_each, draw_time_layout,
+                      column_positions, crossing_pairs, cuts, cuts_each, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, font_points, lay_out_again_when,
                       nearest_each, nearest_in, operating_band, segment_bounds, set_if_changed, text_size,
                       _drawn_segments, _overlap, _ROW_SPLIT, _segments_crossed, _short_orders, touching_groups)
@@ -1136,13 +1136,10 @@ class _CampbellLabels:
         markers_array = np.asarray(markers, float).reshape(-1, 4)
 
         def free(boxes, leader=False):
-            # each of the boxes (n, 4): no curve through it, naming its own circle, on no leader
-            ok = self.curves.free_each(boxes, keep)
+            # each of the boxes (n, 4): no curve through it, on no leader, naming its own circle
+            ok = self._off_curves_and_leaders(boxes, keep)
             if own_nearest:
                 ok &= self._nearest_own_each(boxes, anchor, markers, leader)
-            drawn_leaders = self._leader_array()
-            if len(drawn_leaders):
-                ok &= ~crossing_pairs(drawn_leaders, boxes).any(axis=0)
             return ok
 
         box = None if wide else first_free_box(near, placed, gap, frame, obstacles=markers, each=free)
@@ -1549,12 +1546,14 @@ class _CampbellLabels:
             self._set(entry, text=f"critical speed ({total - len(left)} of {total} labelled,\n"
                                        "all in the critical-speeds table)")
 
-    def _off_curves_and_leaders(self, boxes):
-        """Whether each of ``boxes`` ((n, 4), axes fraction) holds no curve and no leader line
-        runs through it: mask (n,)."""
-        ok = self.curves.free_each(boxes)
-        if len(self.leader_lines):
-            ok &= ~crossing_pairs(np.asarray(self.leader_lines, float).reshape(-1, 4), boxes).any(axis=0)
+    def _off_curves_and_leaders(self, boxes, keep=None):
+        """Whether each of ``boxes`` ((n, 4), axes fraction) holds no curve (but inside ``keep``,
+        :meth:`~._labels.CurveMap.free_each`) and no leader line drawn so far runs through it:
+        mask (n,)."""
+        ok = self.curves.free_each(boxes, keep)
+        drawn_leaders = self._leader_array()
+        if len(drawn_leaders):
+            ok &= ~crossing_pairs(drawn_leaders, boxes).any(axis=0)
         return ok
 
     def _name_mentioned(self):
@@ -1582,7 +1581,7 @@ class _CampbellLabels:
         boxes = sorted(((a, b, a + w, b + h) for a in lefts for b in bottoms),
                        key=lambda box: np.hypot((box[0] + box[2]) / 2 - 0.5, box[3] - 0.97))
         box = first_free_box(boxes, placed, gap, frame, obstacles=markers,
-                             allowed=lambda box: self.curves.free(box) and not crosses_any(self.leader_lines, [box]))
+                             each=self._off_curves_and_leaders)
         left, bottom = (box[0], box[1]) if box is not None else (frame[0], frame[3] - h)
         placed.append((left, bottom, left + w, bottom + h))
         self._set(note, position=(left, bottom), va="bottom", ha="left", clip_on=True, visible=True)
@@ -1599,7 +1598,9 @@ class _CampbellLabels:
 
     def _grouped_critical(self):
         """:meth:`_critical_groups`, found."""
-        points = np.array([self.to_axes((s, f)) for s, f in zip(*self.critical)]).reshape(-1, 2) \
+        # every point in one transform (as _marker_boxes: the 60-rotor chain's 16,864 one by one
+        # took a third of a second at each scale), the same numbers
+        points = np.asarray(self.to_axes(np.column_stack(self.critical)), float).reshape(-1, 2) \
             / np.array([self.to_u, self.to_v])
         order = np.argsort(self.critical[0], kind="stable")
         return [[int(order[k]) for k in group]

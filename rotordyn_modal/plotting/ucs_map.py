@@ -10,7 +10,7 @@ import numpy as np
 from ..units import unit_scale
 from ..units import rpm_text
 from ._style import fitted_title, new_figure
-from ._labels import operating_band
+from ._labels import operating_band, overlaps_any
 
 __all__ = ["plot_ucs_map"]
 
@@ -291,7 +291,6 @@ def _names_its_own(ax, text, labels, crossings) -> bool:
     circle it names than any other crossing's circle, laid out at :data:`SAVED_DPI`."""
     from matplotlib.text import Text
 
-
     first, count = crossings
     words = set(_words(text.get_text()))
     mine = np.array([labels[k][2] in words for k in range(first, first + count)])
@@ -470,7 +469,6 @@ def _leader_lengths(ax, drawn) -> dict:
     :data:`SAVED_DPI`."""
     from matplotlib.text import Text
 
-
     fig = ax.figure
     with _at_saved_dpi(fig):
         renderer = _laid_out(fig)
@@ -492,7 +490,6 @@ _LONG_LEADER = 24.0
 def _longest_leader(ax, drawn) -> float:
     """The longest leader of the labels ``drawn`` [points], from the text's box to its point."""
     from matplotlib.text import Text
-
 
     renderer = _laid_out(ax.figure)
     longest = 0.0
@@ -598,7 +595,7 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests, group=None
     padded_all = places + (-clear, -clear, clear, clear)
     # inside the frame, off every other text and marker: every place at once
     open_ = (padded_all[:, 0] >= frame.x0) & (padded_all[:, 1] >= frame.y0) & (padded_all[:, 2] <= frame.x1) \
-        & (padded_all[:, 3] <= frame.y1) & ~_overlaps_any(padded_all, others) & ~_overlaps_any(padded_all, markers)
+        & (padded_all[:, 3] <= frame.y1) & ~overlaps_any(padded_all, others) & ~overlaps_any(padded_all, markers)
     through = _lines_through(segments, padded_all[open_] + (-line, -line, line, line), crossing_pairs)
     for i, place, crossed in zip(order[open_], places[open_], through):
         if crossed:
@@ -655,16 +652,6 @@ def _leader_through(start, end, box) -> bool:
 
 def _overlap(a, b):
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
-
-
-def _overlaps_any(boxes, others):
-    """Mask (n,): whether each of ``boxes`` (n, 4) overlaps any of ``others`` (:func:`_overlap`, each
-    pair at once)."""
-    if not len(others):
-        return np.zeros(len(boxes), bool)
-    a, b = boxes[:, None, :], np.asarray(others, float).reshape(1, -1, 4)
-    return np.any((a[..., 0] < b[..., 2]) & (b[..., 0] < a[..., 2]) & (a[..., 1] < b[..., 3]) & (b[..., 1] < a[..., 3]),
-                  axis=1)
 
 
 def _lead_to_nearest(ax, text, members, renderer):

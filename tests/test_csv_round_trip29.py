@@ -14,8 +14,6 @@ and ucs-map's mode following, on ``flexible_pump_on_mounts``, into other followe
 
 from __future__ import annotations
 
-import contextlib
-import io
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +22,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from rotordyn_modal.cli import main
+from quiet_cli import run_quietly
 from rotordyn_modal.units import from_system
 
 IN, LB, GN = 0.0254, 0.45359237, 9.80665          # m, kg, m/s^2: exact (NIST SP 811 B.8, B.9)
@@ -74,13 +72,8 @@ def _commands(example):
 
 def _run(argv):
     """Exit code and the last line of stderr of the command line."""
-    err = io.StringIO()
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
-        try:
-            code = main(argv)
-        except SystemExit as exit_:
-            code = exit_.code
-    return code, (err.getvalue().strip().splitlines() or [""])[-1]
+    code, err = run_quietly(argv)
+    return code, (err.strip().splitlines() or [""])[-1]
 
 
 def _back_to_si(us, si_columns):

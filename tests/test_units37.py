@@ -9,14 +9,12 @@ part: a new column without a unit in its name fails here until the page gives it
 
 from __future__ import annotations
 
-import contextlib
-import io
 import re
 from pathlib import Path
 
 import pandas as pd
 
-from rotordyn_modal.cli import main
+from quiet_cli import run_quietly
 from rotordyn_modal.io import load_model
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -100,16 +98,6 @@ def _commands(tmp_path):
         {"--table": "table.csv"}
 
 
-def _run(argv):
-    err = io.StringIO()
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
-        try:
-            code = main(argv)
-        except SystemExit as exit_:
-            code = exit_.code
-    return code, err.getvalue()
-
-
 def _covered(column, listed, sensors_listed, model, keys=(), listed_text=()):
     """Whether ``column`` ends in its unit or the page lists it (a model's names by its patterns)."""
     stem = column.split("[")[0]                        # critical_speed[SOURCE,ORDER,MODE], study's columns
@@ -141,7 +129,7 @@ def test_every_csv_column_names_its_unit_or_is_listed(tmp_path, monkeypatch):
             out = ["--out", str(folder / ("results.nc" if argv[0] == "study" else "out.csv"))]
             files = [str(folder / name) for name in extra.values()]
             typed = [QA[units] if a is QA else a for a in argv]
-            code, err = _run(["--units", units, *typed, *out, *[a for o, f in zip(extra, files) for a in (o, f)]])
+            code, err = run_quietly(["--units", units, *typed, *out, *[a for o, f in zip(extra, files) for a in (o, f)]])
             assert code == 0, (argv, units, err[-400:])
             for path in [p for p in folder.glob("*.csv")]:
                 for column in pd.read_csv(path, nrows=0).columns:

@@ -19,14 +19,20 @@ _RITZ_ROOTS = 8
 _RITZ_FIRST = 4
 
 
+#: pencils of more coordinates than this pick a crossing among close roots from Ritz pairs first
+#: (:func:`_by_ritz`); up to ``_pencils.NEAREST_ROOTS_DOF`` the rows they leave take every root
+_RITZ_DOF = 48
+
+
 def _by_ritz(stack, shapes, iterates) -> bool:
     """Whether crossings among close roots are first picked from Ritz pairs (:func:`_ritz_picked`):
-    one model of constant coefficients, large enough that the roots near a point come from
-    shift-invert Arnoldi (see :func:`_roots_near`), with the sweep's shapes at hand (never where
-    ``_RITZ_ROOTS`` is 0)."""
+    one model of constant coefficients of more than ``_RITZ_DOF`` coordinates, with the sweep's
+    shapes at hand (never where ``_RITZ_ROOTS`` is 0). The rows the pairs leave take the roots
+    near the point (:func:`_tracked`): every root up to ``_pencils.NEAREST_ROOTS_DOF``
+    coordinates, above it the nearest by shift-invert Arnoldi (see :func:`_roots_near`)."""
     return (_RITZ_ROOTS > 0 and shapes is not None and iterates.shape.shape[-1] > 0 and len(stack) == 1
             and not stack.dependent
-            and not stack.branch_times.shape[-1] and stack.n_dof > max(_pencils.NEAREST_ROOTS_DOF, _NEAREST_ROOTS))
+            and not stack.branch_times.shape[-1] and stack.n_dof > max(_RITZ_DOF, _NEAREST_ROOTS))
 
 
 def _ritz_evaluated(stack, speeds, values, shapes, weighted, brackets, rows, x, iterates):
@@ -101,10 +107,10 @@ _RITZ_BYTES = 64 * 2**20
 
 def _ritz_picked(stack, values, shapes, weighted, brackets, rows, x, count=None):
     """The tracked mode at ``x`` among the Ritz pairs (:func:`_pencils.projected_roots`) of the
-    pencil in the span of the sweep's shapes of the ``count`` (default ``_RITZ_ROOTS``) roots nearest the bracket's
-    interpolation at each end of the bracket, picked as :func:`_identified` picks among roots:
-    by the mass-weighted MAC with its shape at the bracket's start and the distance from the
-    interpolation.
+    pencil in the span of the sweep's shapes of the ``count`` (default ``_RITZ_ROOTS``) roots
+    nearest the bracket's interpolation at each end of the bracket, picked as :func:`_identified`
+    picks among roots: by the mass-weighted MAC with its shape at the bracket's start and the
+    distance from the interpolation.
 
     Every root at ``x`` nearer the interpolation than ``radius`` (the nearest root left out at
     either end, less the fastest travel of any root across the bracket) was among those roots

@@ -15,7 +15,8 @@ from ._stack import Pencils
 #: roots picks its mode from (:func:`_ritz_picked`) where the first, smaller one left it
 _RITZ_ROOTS = 8
 #: ... and of the first subspace tried (:func:`_ritz_evaluated`): a projected eigen-solve of 16
-#: states instead of 32 (a fifth of the time), which keeps nearly every pick
+#: states instead of 32, which keeps nearly every pick (the 40-rotor chain's Ritz picks: 2.8 s
+#: of CPU before, 1.0 s with the 294 of 4,009 rows it leaves tried again in the larger one)
 _RITZ_FIRST = 4
 
 

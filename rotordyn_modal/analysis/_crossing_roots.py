@@ -27,13 +27,16 @@ _RITZ_DOF = 48
 
 def _by_ritz(stack, shapes, iterates) -> bool:
     """Whether crossings among close roots are first picked from Ritz pairs (:func:`_ritz_picked`):
-    one model of constant coefficients of more than ``_RITZ_DOF`` coordinates, with the sweep's
-    shapes at hand (never where ``_RITZ_ROOTS`` is 0). The rows the pairs leave take the roots
-    near the point (:func:`_tracked`): every root up to ``_pencils.NEAREST_ROOTS_DOF``
-    coordinates, above it the nearest by shift-invert Arnoldi (see :func:`_roots_near`)."""
+    one model of constant coefficients of more than ``_RITZ_DOF`` coordinates (or than
+    ``_pencils.NEAREST_ROOTS_DOF``, where that is lower: every model whose roots near a point
+    come from Arnoldi), with the sweep's shapes at hand (never where ``_RITZ_ROOTS`` is 0). The
+    rows the pairs leave take the roots near the point (:func:`_tracked`): every root up to
+    ``_pencils.NEAREST_ROOTS_DOF`` coordinates, above it the nearest by shift-invert Arnoldi
+    (see :func:`_roots_near`)."""
     return (_RITZ_ROOTS > 0 and shapes is not None and iterates.shape.shape[-1] > 0 and len(stack) == 1
             and not stack.dependent
-            and not stack.branch_times.shape[-1] and stack.n_dof > max(_RITZ_DOF, _NEAREST_ROOTS))
+            and not stack.branch_times.shape[-1]
+            and stack.n_dof > max(min(_RITZ_DOF, _pencils.NEAREST_ROOTS_DOF), _NEAREST_ROOTS))
 
 
 def _ritz_evaluated(stack, speeds, values, shapes, weighted, brackets, rows, x, iterates):

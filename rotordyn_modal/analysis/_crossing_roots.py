@@ -12,18 +12,31 @@ from . import _batches, _eigensolve, _pencils, _vectors
 from ._stack import Pencils
 
 #: roots at each end of a bracket whose shapes span the subspace that a crossing among close
-#: roots first picks its mode from (:func:`_ritz_picked`)
+#: roots picks its mode from (:func:`_ritz_picked`) where the first, smaller one left it
 _RITZ_ROOTS = 8
+#: ... and of the first subspace tried (:func:`_ritz_evaluated`): a projected eigen-solve of 16
+#: states instead of 32, which keeps nearly every pick (the 40-rotor chain's Ritz picks: 2.8 s
+#: of CPU before, 1.0 s with the 294 of 4,009 rows it leaves tried again in the larger one)
+_RITZ_FIRST = 4
+
+
+#: pencils of more coordinates than this pick a crossing among close roots from Ritz pairs first
+#: (:func:`_by_ritz`); up to ``_pencils.NEAREST_ROOTS_DOF`` the rows they leave take every root
+_RITZ_DOF = 48
 
 
 def _by_ritz(stack, shapes, iterates) -> bool:
     """Whether crossings among close roots are first picked from Ritz pairs (:func:`_ritz_picked`):
-    one model of constant coefficients, large enough that the roots near a point come from
-    shift-invert Arnoldi (see :func:`_roots_near`), with the sweep's shapes at hand (never where
-    ``_RITZ_ROOTS`` is 0)."""
+    one model of constant coefficients of more than ``_RITZ_DOF`` coordinates (or than
+    ``_pencils.NEAREST_ROOTS_DOF``, where that is lower: every model whose roots near a point
+    come from Arnoldi), with the sweep's shapes at hand (never where ``_RITZ_ROOTS`` is 0). The
+    rows the pairs leave take the roots near the point (:func:`_tracked`): every root up to
+    ``_pencils.NEAREST_ROOTS_DOF`` coordinates, above it the nearest by shift-invert Arnoldi
+    (see :func:`_roots_near`)."""
     return (_RITZ_ROOTS > 0 and shapes is not None and iterates.shape.shape[-1] > 0 and len(stack) == 1
             and not stack.dependent
-            and not stack.branch_times.shape[-1] and stack.n_dof > max(_pencils.NEAREST_ROOTS_DOF, _NEAREST_ROOTS))
+            and not stack.branch_times.shape[-1]
+            and stack.n_dof > max(min(_RITZ_DOF, _pencils.NEAREST_ROOTS_DOF), _NEAREST_ROOTS))
 
 
 def _ritz_evaluated(stack, speeds, values, shapes, weighted, brackets, rows, x, iterates):
@@ -32,6 +45,11 @@ def _ritz_evaluated(stack, speeds, values, shapes, weighted, brackets, rows, x, 
     the Ritz pairs of the sweep's shapes at the bracket's ends (:func:`_ritz_picked`, all rows
     in a few batched calls), then refined on the pencil from that pair (:func:`_pencil_at`: one
     factorisation per crossing, reused by its later points, which follow it there).
+
+    The subspace is first the shapes of the ``_RITZ_FIRST`` roots nearest the interpolation at
+    each end (a projected eigen-solve of ``4 _RITZ_FIRST`` states); the rows it leaves (no pick
+    kept, or not converged) try the ``_RITZ_ROOTS`` nearest, with their iterates as they were
+    (:func:`_ritz_tried`).
 
     A row counts only where the pencil's eigenpair converged within a quarter of the distance
     from its Ritz value to the nearest other one (and to its own conjugate), with a shape
@@ -45,9 +63,26 @@ def _ritz_evaluated(stack, speeds, values, shapes, weighted, brackets, rows, x, 
     """
     lam = np.full(len(rows), np.nan, dtype=complex)
     ok = np.zeros(len(rows), dtype=bool)
-    size = 2 * min(_RITZ_ROOTS, values.shape[-1])
+    left = np.arange(len(rows))
+    for count in sorted({min(_RITZ_FIRST, _RITZ_ROOTS), _RITZ_ROOTS} - {0}):
+        if not len(left):
+            break
+        lam[left], ok[left] = _ritz_tried(stack, speeds, values, shapes, weighted, brackets, rows[left], x[left],
+                                          iterates, count)
+        left = left[~ok[left]]
+    return lam, ok
+
+
+def _ritz_tried(stack, speeds, values, shapes, weighted, brackets, rows, x, iterates, count):
+    """:func:`_ritz_evaluated` with the subspace of the ``count`` roots nearest the interpolation
+    at each end of the bracket: (lam (P,), ok (P,)); the rows not ok keep their iterates as
+    they were."""
+    lam = np.full(len(rows), np.nan, dtype=complex)
+    ok = np.zeros(len(rows), dtype=bool)
+    size = 2 * min(count, values.shape[-1])
     for part in _batches.chunk_slices(len(rows), 64 * size * stack.n_dof, budget=_RITZ_BYTES):
-        picked, vectors, gap, good = _ritz_picked(stack, values, shapes, weighted, brackets, rows[part], x[part])
+        picked, vectors, gap, good = _ritz_picked(stack, values, shapes, weighted, brackets, rows[part], x[part],
+                                                  count)
         at = np.arange(part.start, part.stop)[good]
         if not len(at):
             continue
@@ -60,7 +95,7 @@ def _ritz_evaluated(stack, speeds, values, shapes, weighted, brackets, rows, x, 
         mac = np.abs(np.einsum("pi,pi->p", vectors[good].conj(), iterates.shape[mine])) ** 2
         converged &= mac >= _RITZ_MAC
         lost = (~converged).nonzero()[0]
-        if len(lost):                                   # as they were, for _tracked
+        if len(lost):                                   # as they were, for the next try or _tracked
             for column, value in zip((iterates.x, iterates.lam, iterates.shape, iterates.gap, iterates.factors.ready),
                                      saved):
                 column[mine[lost]] = value[lost]
@@ -74,12 +109,12 @@ _RITZ_MAC = 0.9
 _RITZ_BYTES = 64 * 2**20
 
 
-def _ritz_picked(stack, values, shapes, weighted, brackets, rows, x):
+def _ritz_picked(stack, values, shapes, weighted, brackets, rows, x, count=None):
     """The tracked mode at ``x`` among the Ritz pairs (:func:`_pencils.projected_roots`) of the
-    pencil in the span of the sweep's shapes of the ``_RITZ_ROOTS`` roots nearest the bracket's
-    interpolation at each end of the bracket, picked as :func:`_identified` picks among roots:
-    by the mass-weighted MAC with its shape at the bracket's start and the distance from the
-    interpolation.
+    pencil in the span of the sweep's shapes of the ``count`` (default ``_RITZ_ROOTS``) roots
+    nearest the bracket's interpolation at each end of the bracket, picked as :func:`_identified`
+    picks among roots: by the mass-weighted MAC with its shape at the bracket's start and the
+    distance from the interpolation.
 
     Every root at ``x`` nearer the interpolation than ``radius`` (the nearest root left out at
     either end, less the fastest travel of any root across the bracket) was among those roots
@@ -97,7 +132,7 @@ def _ritz_picked(stack, values, shapes, weighted, brackets, rows, x):
         Its distance to the nearest other Ritz value of the upper half-plane or its conjugate.
     kept : ndarray (P,) bool
     """
-    count = min(_RITZ_ROOTS, values.shape[-1])
+    count = min(_RITZ_ROOTS if count is None else count, values.shape[-1])
     every = np.arange(len(rows))
     v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
     expected = _interpolated(brackets, rows, x)

@@ -115,7 +115,7 @@ def _pooled(function, parts) -> list:
             future.cancel()
 
 
-def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
+def _threaded(function, *batches: np.ndarray, item_bytes: int = 0, thread_bytes: int | None = None):
     """Apply a batched numpy routine over the first axis of its arrays using a few threads.
 
     LAPACK-backed numpy routines and large array arithmetic release the GIL, so
@@ -123,15 +123,16 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     studies do in their worker processes) to stay on one core. ``item_bytes``
     (the work memory per item, a measure of its cost) splits large batches into
     parts of at most about ``_PART_BYTES``, and shares batches beyond
-    ``_THREAD_BYTES`` between threads. ``function`` returns an array or a tuple
-    of arrays; the parts' results are concatenated.
+    ``thread_bytes`` (default ``_THREAD_BYTES``; larger for work that is cheap for
+    its memory, as banded solves) between threads. ``function`` returns an array or
+    a tuple of arrays; the parts' results are concatenated.
     """
     global _POOL
     count = len(batches[0])
     threads = int(environment_number(THREADS_ENVIRONMENT, "a whole number of threads >= 1",
                                      lambda v: v >= 1 and v.is_integer(), _THREADS))
     pieces = max(1, min(count, -(-count * item_bytes // _PART_BYTES)))
-    if threads > 1 and count * item_bytes >= _THREAD_BYTES:
+    if threads > 1 and count * item_bytes >= (_THREAD_BYTES if thread_bytes is None else thread_bytes):
         pieces = max(pieces, min(count, threads))
     if pieces == 1:
         with one_blas_thread(item_bytes):        # as estimated (analysis/_cost.py), on a shared machine too

@@ -24,6 +24,12 @@ THREADS_ENVIRONMENT = "ROTORDYN_MODAL_THREADS"
 
 #: batches whose work arrays exceed this are shared between threads [bytes]
 _THREAD_BYTES = 2**20
+#: ... and batches of linear solves (LU of small pencils, banded solves) from this much: their work
+#: is cheap for its memory (a dense LU of 44 complex coordinates 25 us for 93 kB, a banded solve
+#: 16 us for 17 kB, against some 3 ms for an ``eig`` of 88 states' 372 kB), and a thread's part of
+#: a millisecond or two cost more CPU than it saved (ROSS's speed_tables, ``campbell(modes=12)``
+#: at 21 speeds: 41-46 against 37-42 ms of CPU, no shorter in wall time, at load 3)
+SOLVE_THREAD_BYTES = 8 * 2**20
 
 
 #: upper bound of the work arrays of one part of a batch [bytes]

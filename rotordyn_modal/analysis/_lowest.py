@@ -1343,6 +1343,7 @@ def _pencil_shapes(stack, speeds, lam):
     k, n = lam.shape[1], stack.n_dof
     if stiffness.ndim == 2:             # one stiffness for every speed
         part = functools.partial(_pencil_shapes_part, stack.M[0], stiffness)
-        return _batches._threaded(part, lam, damping, item_bytes=48 * k * n * n)
+        return _batches._threaded(part, lam, damping, item_bytes=48 * k * n * n,
+                                  thread_bytes=_batches.SOLVE_THREAD_BYTES)
     return _batches._threaded(functools.partial(_pencil_shapes_part, stack.M[0]), stiffness, lam, damping,
-                              item_bytes=48 * k * n * n)
+                              item_bytes=48 * k * n * n, thread_bytes=_batches.SOLVE_THREAD_BYTES)

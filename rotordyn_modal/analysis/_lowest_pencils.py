@@ -28,12 +28,6 @@ __all__: list[str] = []
 #: LU each (measured, 2,613 pencils: 36 coordinates dense 120 ms, banded 124 ms; 44 coordinates 221
 #: against 120 ms)
 _DENSE_DOF = 36
-#: the banded solves of a batch are shared between threads from this much work memory [bytes], not
-#: from ``_batches._THREAD_BYTES``: a banded solve is cheap for its memory (16 us a root at 44
-#: coordinates, 17 kB), and a thread's part of a few milliseconds cost more CPU than it saved
-#: (ROSS's speed_tables, ``campbell(modes=12)`` at 21 speeds: 41-46 against 37-42 ms of CPU, and
-#: no shorter in wall time, at load 3)
-_BANDED_THREAD_BYTES = 8 * 2**20
 
 #: the Newton step's ``|x^H Q'(s) x| / |x|^2`` stands for the root's where the final vector's direction
 #: is within this of the start's (``1 - cos^2`` of their angle: ``_Pencils.newton_chord``'s ``slope``)
@@ -167,7 +161,7 @@ class _Pencils:
         if self.band is not None:
             width = 2 * self.band.lower + self.band.upper + 1
             return _batches._threaded(self._banded_solve, index, lam, rhs, item_bytes=16 * n * (width + 2),
-                                      thread_bytes=_BANDED_THREAD_BYTES)
+                                      thread_bytes=_batches.SOLVE_THREAD_BYTES)
         out = np.empty(rhs.shape, complex)
         for p in range(len(lam)):
             Q = scipy.sparse.csc_matrix((self._entries(index[p:p + 1], lam[p:p + 1])[0], self.indices, self.indptr),
@@ -212,10 +206,10 @@ class _Pencils:
         if c is None:
             chord = functools.partial(self._banded_chord, c=None, done=done)
             return _batches._threaded(chord, index, lam, x, item_bytes=16 * n * (width + 4),
-                                      thread_bytes=_BANDED_THREAD_BYTES)
+                                      thread_bytes=_batches.SOLVE_THREAD_BYTES)
         chord = functools.partial(self._banded_chord, done=done)
         return _batches._threaded(chord, index, lam, x, c, item_bytes=16 * n * (width + 4),
-                                      thread_bytes=_BANDED_THREAD_BYTES)
+                                      thread_bytes=_batches.SOLVE_THREAD_BYTES)
 
     def _banded_chord(self, index, lam, x, c, done):
         """:meth:`newton_chord` of some rows: band storage in chunks, ``zgbtrf`` once per row and

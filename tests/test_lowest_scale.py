@@ -42,6 +42,9 @@ def test_critical_speeds_of_a_lowest_sweep_never_solve_every_root(monkeypatch):
         return real_sub(*args, **kwargs)
 
     monkeypatch.setattr(critical_module, "_crossings_in", sub_sweep)
+    # the checks of the mode links take the dense route (state matrices) below CHECK_DENSE_BELOW
+    # coordinates (ross40); this test is about the sub-sweeps: the checks as before
+    monkeypatch.setattr(_lowest, "CHECK_DENSE_BELOW", _lowest.DENSE_BELOW)
     monkeypatch.setattr(_stack.Stack, "sweep", lambda *a, **k: pytest.fail("the state matrices of a sweep formed"))
     lowest = rdm.campbell(model, speeds, orders=(1,), modes=12).critical
     assert swept, "no bracket was swept again: the test no longer reaches the sub-sweeps"

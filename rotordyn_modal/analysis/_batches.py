@@ -24,6 +24,12 @@ THREADS_ENVIRONMENT = "ROTORDYN_MODAL_THREADS"
 
 #: batches whose work arrays exceed this are shared between threads [bytes]
 _THREAD_BYTES = 2**20
+#: ... and batches of linear solves (LU of small pencils, banded solves) from this much: their work
+#: is cheap for its memory (a dense LU of 44 complex coordinates 25 us for 93 kB, a banded solve
+#: 16 us for 17 kB, against some 3 ms for an ``eig`` of 88 states' 372 kB), and a thread's part of
+#: a millisecond or two cost more CPU than it saved (ROSS's speed_tables, ``campbell(modes=12)``
+#: at 21 speeds: 41-46 against 37-42 ms of CPU, no shorter in wall time, at load 3)
+SOLVE_THREAD_BYTES = 8 * 2**20
 
 
 #: upper bound of the work arrays of one part of a batch [bytes]
@@ -115,7 +121,7 @@ def _pooled(function, parts) -> list:
             future.cancel()
 
 
-def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
+def _threaded(function, *batches: np.ndarray, item_bytes: int = 0, thread_bytes: int | None = None):
     """Apply a batched numpy routine over the first axis of its arrays using a few threads.
 
     LAPACK-backed numpy routines and large array arithmetic release the GIL, so
@@ -123,15 +129,16 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     studies do in their worker processes) to stay on one core. ``item_bytes``
     (the work memory per item, a measure of its cost) splits large batches into
     parts of at most about ``_PART_BYTES``, and shares batches beyond
-    ``_THREAD_BYTES`` between threads. ``function`` returns an array or a tuple
-    of arrays; the parts' results are concatenated.
+    ``thread_bytes`` (default ``_THREAD_BYTES``; larger for work that is cheap for
+    its memory, as banded solves) between threads. ``function`` returns an array or
+    a tuple of arrays; the parts' results are concatenated.
     """
     global _POOL
     count = len(batches[0])
     threads = int(environment_number(THREADS_ENVIRONMENT, "a whole number of threads >= 1",
                                      lambda v: v >= 1 and v.is_integer(), _THREADS))
     pieces = max(1, min(count, -(-count * item_bytes // _PART_BYTES)))
-    if threads > 1 and count * item_bytes >= _THREAD_BYTES:
+    if threads > 1 and count * item_bytes >= (_THREAD_BYTES if thread_bytes is None else thread_bytes):
         pieces = max(pieces, min(count, threads))
     if pieces == 1:
         with one_blas_thread(item_bytes):        # as estimated (analysis/_cost.py), on a shared machine too

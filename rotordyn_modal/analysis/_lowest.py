@@ -56,6 +56,13 @@ _SAME = 1e-8
 #: up to about 50 coordinates, but from 39 on the Newton roots are kept, 10-20 % dearer: they keep
 #: an undamped gyroscopic model's roots on the imaginary axis to 1e-12, the dense eig to 3e-10)
 DENSE_BELOW = 38
+#: ``campbell``'s checks of its mode links (a few speeds a call, roots to track, not results) take
+#: the dense route (:func:`_small_lowest`) below this many coordinates: there every root of the
+#: state matrix costs less than the reduced route's set-up (its basis, the estimate of the highest
+#: root, the projected ``eig``, Newton) for a few speeds. Measured, CPU of ``campbell(modes=12)`` at
+#: 21 speeds: ROSS's speed_tables (44 coordinates) 52 -> 44 ms, hrs113 (64) 559 -> 447 ms;
+#: damping_geometry (136) 118 -> 207 ms, so not there
+CHECK_DENSE_BELOW = 72
 
 
 def lowest_roots(stack, speeds, count: int, progress: bool = False, what: str = "speeds"):
@@ -137,23 +144,65 @@ def _reduced_roots(stack, speeds, count, progress=False):
     if _lowest_route._crowded(stack, pencils, count=count):      # Arnoldi, shown without the dense set-up below
         return _arnoldi_roots(stack, pencils, count, progress)
     bound = _stack_bound(stack, pencils)
-    modes = bound.modes
     want = min(count + 1, size)
     # the highest root wanted, from a few speeds (an underestimate only makes the final check stricter)
     few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
-    rho = _MARGIN * np.max(np.abs(projected_roots_kept(pencils, modes[:, :size], want, few)))
-    size = min(n, max(_needed_size(bound, rho, size), want))
+    rho, cheap = _highest_wanted(pencils, bound, want, size, few)
+    found = _sized_sweep(stack, pencils, bound, count, want, rho, progress, cheap)
+    if found is None:                   # the cheap estimate was too low for the basis: the careful one
+        rho = _highest_wanted(pencils, bound, want, size, few, cheap=False)[0]
+        found = _sized_sweep(stack, pencils, bound, count, want, rho, progress)
+    return found
+
+
+#: the cheap estimate of the highest root wanted (:func:`_highest_wanted`) projects on the undamped
+#: modes up to the first above this many times the ``want``-th undamped frequency, and at least
+#: ``want + _ESTIMATE_EXTRA`` of them
+_ESTIMATE_REACH, _ESTIMATE_EXTRA = 1.5, 4
+
+
+def _highest_wanted(pencils, bound, want, size, few, cheap=True):
+    """``rho`` [rad/s], ``_MARGIN`` times the highest of the ``want`` lowest projected roots at the
+    speeds ``few`` (:func:`._lowest_starts.projected_roots_kept`), and whether it is the cheap
+    estimate. The careful estimate projects on the first ``size`` undamped modes (``3 count``, as
+    the Arnoldi test does, whose roots it takes again where that test made them); the cheap one
+    (with ``cheap``, where the Arnoldi test made none) on the modes up to the first above
+    ``_ESTIMATE_REACH`` times the ``want``-th undamped frequency: ``eigvals`` of 34 states instead
+    of 72 on ROSS's speed_tables (44 coordinates), a tenth of the work, the same ``rho`` to 1e-5.
+    ``rho`` only sizes the basis: the basis is checked at the highest root refined
+    (:func:`_basis_suffices`), and where the cheap ``rho`` fails that check the caller sizes the
+    basis again from the careful one (:func:`_sized_sweep`)."""
+    modes, omegas = bound.modes, bound.omegas
+    if cheap and pencils.__dict__.get("_kept_roots") is None:
+        reach = int(np.searchsorted(omegas, _ESTIMATE_REACH * omegas[want - 1])) + 1
+        fewer = min(size, max(want + _ESTIMATE_EXTRA, reach))
+        if fewer < size:
+            roots = _projected_starts(pencils, modes[:, :fewer], want, few, vectors_at=np.zeros(len(few), bool))[0]
+            return _MARGIN * np.max(np.abs(roots)), True
+    return _MARGIN * np.max(np.abs(projected_roots_kept(pencils, modes[:, :size], want, few))), False
+
+
+def _sized_sweep(stack, pencils, bound, count, want, rho, progress=False, cheap=False):
+    """:func:`_reduced_roots`' sweep on the basis sized for roots up to ``rho`` [rad/s]: roots
+    (S, k), shapes (S, k, n) and whether each speed passed every check (S,); None where ``cheap``
+    (``rho`` the cheap estimate, :func:`_highest_wanted`) and the basis fails its check at a speed
+    that passed the others (the careful estimate may size it larger)."""
+    n = stack.n_dof
+    size = min(n, max(_needed_size(bound, rho, want), want))
     _, attached = bound.shares(size, rho)
     if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the wanted roots
         return _arnoldi_roots(stack, pencils, count, progress)
-    basis = np.hstack([modes[:, :size], attached])
+    basis = np.hstack([bound.modes[:, :size], attached])
     values, shapes, ok, unmissed = _swept(pencils, basis, want, count)
     ok &= _distinct(values, shapes)
     near = ok & ~unmissed               # every root refined and distinct; the next start within the error
     ok &= unmissed
     # Newton may reorder roots of close frequency: by frequency again
     values, shapes = _by_frequency_over(values, shapes, count)
-    ok &= _basis_suffices(values, bound, size, attached.shape[1], rho)
+    suffices = _basis_suffices(values, bound, size, attached.shape[1], rho)
+    if cheap and np.any(ok & ~suffices):
+        return None
+    ok &= suffices
     _cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count, near=near)
     return values, shapes, ok
 
@@ -1294,6 +1343,7 @@ def _pencil_shapes(stack, speeds, lam):
     k, n = lam.shape[1], stack.n_dof
     if stiffness.ndim == 2:             # one stiffness for every speed
         part = functools.partial(_pencil_shapes_part, stack.M[0], stiffness)
-        return _batches._threaded(part, lam, damping, item_bytes=48 * k * n * n)
+        return _batches._threaded(part, lam, damping, item_bytes=48 * k * n * n,
+                                  thread_bytes=_batches.SOLVE_THREAD_BYTES)
     return _batches._threaded(functools.partial(_pencil_shapes_part, stack.M[0]), stiffness, lam, damping,
-                              item_bytes=48 * k * n * n)
+                              item_bytes=48 * k * n * n, thread_bytes=_batches.SOLVE_THREAD_BYTES)

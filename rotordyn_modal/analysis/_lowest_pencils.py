@@ -160,7 +160,8 @@ class _Pencils:
             return _pencils._solve(Q.reshape(-1, n, n), rhs[..., None])[..., 0]
         if self.band is not None:
             width = 2 * self.band.lower + self.band.upper + 1
-            return _batches._threaded(self._banded_solve, index, lam, rhs, item_bytes=16 * n * (width + 2))
+            return _batches._threaded(self._banded_solve, index, lam, rhs, item_bytes=16 * n * (width + 2),
+                                      thread_bytes=_batches.SOLVE_THREAD_BYTES)
         out = np.empty(rhs.shape, complex)
         for p in range(len(lam)):
             Q = scipy.sparse.csc_matrix((self._entries(index[p:p + 1], lam[p:p + 1])[0], self.indices, self.indptr),
@@ -204,9 +205,11 @@ class _Pencils:
         width = 2 * band.lower + band.upper + 1
         if c is None:
             chord = functools.partial(self._banded_chord, c=None, done=done)
-            return _batches._threaded(chord, index, lam, x, item_bytes=16 * n * (width + 4))
+            return _batches._threaded(chord, index, lam, x, item_bytes=16 * n * (width + 4),
+                                      thread_bytes=_batches.SOLVE_THREAD_BYTES)
         chord = functools.partial(self._banded_chord, done=done)
-        return _batches._threaded(chord, index, lam, x, c, item_bytes=16 * n * (width + 4))
+        return _batches._threaded(chord, index, lam, x, c, item_bytes=16 * n * (width + 4),
+                                      thread_bytes=_batches.SOLVE_THREAD_BYTES)
 
     def _banded_chord(self, index, lam, x, c, done):
         """:meth:`newton_chord` of some rows: band storage in chunks, ``zgbtrf`` once per row and

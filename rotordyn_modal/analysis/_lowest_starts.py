@@ -148,7 +148,7 @@ def _projected_roots(A, damping, stiffness, want, wanted=None):
     if len(sure):
         part = functools.partial(_pencil_shapes_part, np.eye(m))
         shapes[sure] = _batches._threaded(part, stiffness[sure], picked[sure], damping[sure],
-                                          item_bytes=48 * want * m * m)
+                                          item_bytes=48 * want * m * m, thread_bytes=_batches.SOLVE_THREAD_BYTES)
     return picked, shapes
 
 

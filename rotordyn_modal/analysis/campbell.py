@@ -1277,7 +1277,11 @@ def _check_roots(stack, speeds, more):
     """The ``more`` lowest roots (P, more) at ``speeds`` (P,) [rad/s] and their weighted shapes
     (P, more, n), the route's own fallback warnings muted (a check: no news of the sweep's). The
     check compares shapes by their MAC alone: a small undamped gyroscopic model's come from its
-    Hermitian matrix's eigenvectors (:func:`._lowest.weighted_lowest_roots`, the roots the same)."""
+    Hermitian matrix's eigenvectors (:func:`._lowest.weighted_lowest_roots`, the roots the same).
+    Below ``_lowest.CHECK_DENSE_BELOW`` coordinates the roots are the dense route's
+    (:func:`._lowest._small_lowest`: every root of the state matrix, within its round-off), not
+    Newton's: the check tracks and matches roots (to ``_SAME_VALUE``), and there one ``eigvals``
+    costs less than the reduced route's set-up for a few speeds."""
     from . import _lowest, _lowest_branches
 
     if not stack.branch_times.shape[1]:
@@ -1288,6 +1292,8 @@ def _check_roots(stack, speeds, more):
         warnings.simplefilter("ignore")
         if stack.branch_times.shape[1]:
             lam, phi, _ = _lowest_branches.lowest_roots(stack, speeds, more)
+        elif stack.n_dof < _lowest.CHECK_DENSE_BELOW:
+            lam, phi = _lowest._small_lowest(stack, speeds, more)
         else:
             lam, phi, _ = _lowest.lowest_roots(stack, speeds, more)
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):

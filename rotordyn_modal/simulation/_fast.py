@@ -1047,7 +1047,7 @@ FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_s
 #: is optimised and translated to machine code again in every compiled caller above it
 INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
            "_add_bearing_forces", "_suspension_energy", "_center_of_mass",
-           "_evaluate")
+           "_evaluate", "_solve_motion")
 #: compiled functions called only from other compiled functions: no wrapper for calls from Python.
 #: Not the film's kernel (``_sommerfeld_angle``, ``_film_force``): the flexible rotors' journal
 #: model compiles them too and calls ``_film_force`` from Python (``flexible_journal.FILM_FUNCTIONS``),

@@ -819,43 +819,6 @@ def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcoun
     return out
 
 
-def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
-                   A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
-    """Per-sample derived outputs; see :func:`rotordyn_modal.simulation._kernels.sample_outputs`."""
-    count = times.shape[0]
-    n = states.shape[1] // 2
-    kinetic, elastic, weight = np.empty(count), np.empty(count), np.empty(count)
-    torque, omega = np.empty(count), np.empty((count, 3))
-    wrenches = np.empty((count, bbody.shape[0], 6))
-    work = np.empty(n * n + 2 * n)
-    M = work[:n * n].reshape((n, n))
-    f = work[n * n:n * n + n]
-    qdd = work[n * n + n:]
-    mats = np.empty((5, 3, 3))
-    vec = np.empty((7, 3))
-    for s in range(count):
-        y = states[s]
-        for i in range(n * n + n):
-            work[i] = 0.0
-        assemble_into(times[s], y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-                      spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f)
-        total = 0.0
-        for i in range(n):
-            for k in range(n):
-                total += y[n + i] * M[i, k] * y[n + k]
-        kinetic[s] = 0.5 * total
-        torque[s] = _solve_motion(M, f, times[s], mode, accel, t_start, t_stop, qdd, nf, slot, ntrans)
-        elastic[s], weight[s] = potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3,
-                                          spos, sK, bbody, bpos, bspeeds, bcount, bK, bC)
-        _frame(y, n, e, E2, nf, mats[0], mats[1], vec[0], omega[s], vec[1], vec[2], mats[2:5], vec[3:7])
-        wrench = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, bfilm,
-                                  baxes)
-        for br in range(wrench.shape[0]):     # element by element: ``wrenches[s] = ...`` makes numba
-            for i in range(6):                # compile its shape-mismatch message (3 s of a 28 s compile)
-                wrenches[s, br, i] = wrench[br, i]
-    return kinetic, elastic, weight, torque, omega, wrenches
-
-
 def rhs_flat(t, y, floats, ints):
     """:func:`rhs` with its arguments packed by :func:`pack` (cheaper to call from Python); with
     ``ints[6] = count > 0`` (:func:`pack_arguments` with output times), :func:`sample_outputs` of
@@ -1042,9 +1005,12 @@ FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_s
              "potential", "_quadratic", "bearing_wrenches", "_evaluate", "rhs_flat")
 #: steps of ``assemble_into`` and ``potential``, inlined into them by numba (``inline="always"``):
 #: called as functions with many array arguments they would cost time in the right-hand side; and
-#: functions with one compiled caller (the steps of the solve, ``rhs`` in ``rhs_flat``,
-#: ``potential`` and ``bearing_wrenches`` in ``sample_outputs``): each compiled function of its own
-#: is optimised and translated to machine code again in every compiled caller above it
+#: functions with one compiled caller (``_evaluate`` in ``rhs_flat``, ``_solve_motion`` in
+#: ``_evaluate``): each compiled function of its own is optimised and translated to machine code
+#: again in every compiled caller above it. Not ``assemble_into``, ``potential`` or
+#: ``bearing_wrenches``: numba copies an inlined function's code block by block, with all its
+#: variables each time, and types it again in the caller (the first compile took 24.6 s of CPU
+#: with these three inlined too, 16-17 s without)
 INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
            "_add_bearing_forces", "_suspension_energy", "_center_of_mass",
            "_evaluate", "_solve_motion")

@@ -824,9 +824,9 @@ def rhs_flat(t, y, floats, ints):
     ``ints[6] = count > 0`` (:func:`pack_arguments` with output times), :func:`sample_outputs` of
     ``count`` states instead.
 
-    One compiled function for both (:func:`_evaluate`): numba builds ``assemble_into`` and the
-    solve into each compiled caller again, and a second one for the outputs cost a quarter of the
-    first compilation's time.
+    One compiled function for both (:func:`_evaluate`): numba builds ``assemble_into``, the solve
+    and all they call into the machine code of each compiled caller again, so a second compiled
+    function for the outputs built them all a second time.
     """
     nf, nb, ns, nbr, length, mode, count = ints[0], ints[1], ints[2], ints[3], ints[4], ints[5], ints[6]
     o = 7
@@ -884,57 +884,43 @@ def _evaluate(t, y, times, e, E2, nf, gravity, mass, center, offset, inertia, ra
     """No ``times``: :func:`rhs` at ``(t, y)``, shape (2n,). ``count`` output ``times`` (count,) [s]:
     :func:`sample_outputs` of the ``count`` states ``y`` (count * 2n,), flat: ``kinetic``,
     ``elastic``, ``weight``, ``torque`` (count each), ``omega`` (count, 3), ``wrenches``
-    (count, nbr, 6) (:func:`split_samples`).
-
-    One loop for both, so that ``assemble_into`` and ``_solve_motion`` have one call site each
-    (numba builds each call site's callee into the caller's machine code). At most 30 arguments:
-    Python 3.11 passes more as a tuple (``*args``), which numba does not inline."""
+    (count, nbr, 6) (:func:`split_samples`). At most 30 arguments: Python 3.11 passes more as a
+    tuple (``*args``), which numba does not inline."""
     count = times.shape[0]
-    rows = count if count > 0 else 1
-    n = y.shape[0] // (2 * rows)
-    nbr = bbody.shape[0]
-    work = np.zeros(n * n + n)
-    M = work[:n * n].reshape((n, n))
-    f = work[n * n:]
     if count == 0:
-        out = np.empty(2 * n)
-        qdd = out[n:]
-    else:
-        out = np.empty(count * (7 + 6 * nbr))
-        qdd = np.empty(n)
+        return rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3, spos, sK, sC,
+                   bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop)
+    n = y.shape[0] // (2 * count)
+    nbr = bbody.shape[0]
+    out = np.empty(count * (7 + 6 * nbr))
+    work = np.empty(n * n + 2 * n)
+    M = work[:n * n].reshape((n, n))
+    f = work[n * n:n * n + n]
+    qdd = work[n * n + n:]
     mats = np.empty((5, 3, 3))
     vec = np.empty((7, 3))
-    for s in range(rows):
+    for s in range(count):
         ys = y[2 * n * s:2 * n * (s + 1)]
-        ts = t if count == 0 else times[s]
-        if s > 0:
-            for i in range(n * n + n):
-                work[i] = 0.0
-        assemble_into(ts, ys, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+        for i in range(n * n + n):
+            work[i] = 0.0
+        assemble_into(times[s], ys, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
                       spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f)
-        if count == 0:
-            for i in range(n):
-                out[i] = ys[n + i]
-        else:
-            total = 0.0
-            for i in range(n):
-                for k in range(n):
-                    total += ys[n + i] * M[i, k] * ys[n + k]
-            out[s] = 0.5 * total
-        torque = _solve_motion(M, f, ts, mode, accel, t_start, t_stop, qdd, nf, slot, ntrans)
-        if count > 0:
-            out[3 * count + s] = torque
-            out[count + s], out[2 * count + s] = potential(ys, e, E2, nf, gravity, mass, center, offset, ratio,
-                                                           slot, ntrans, A3, spos, sK, bbody, bpos, bspeeds,
-                                                           bcount, bK, bC)
-            _frame(ys, n, e, E2, nf, mats[0], mats[1], vec[0], out[4 * count + 3 * s:4 * count + 3 * s + 3],
-                   vec[1], vec[2], mats[2:5], vec[3:7])
-            wrench = bearing_wrenches(ys, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC,
-                                      bfilm, baxes)
-            start = 7 * count + 6 * nbr * s
-            for br in range(nbr):
-                for i in range(6):
-                    out[start + 6 * br + i] = wrench[br, i]
+        total = 0.0
+        for i in range(n):
+            for k in range(n):
+                total += ys[n + i] * M[i, k] * ys[n + k]
+        out[s] = 0.5 * total
+        out[3 * count + s] = _solve_motion(M, f, times[s], mode, accel, t_start, t_stop, qdd, nf, slot, ntrans)
+        out[count + s], out[2 * count + s] = potential(ys, e, E2, nf, gravity, mass, center, offset, ratio, slot,
+                                                       ntrans, A3, spos, sK, bbody, bpos, bspeeds, bcount, bK, bC)
+        _frame(ys, n, e, E2, nf, mats[0], mats[1], vec[0], out[4 * count + 3 * s:4 * count + 3 * s + 3], vec[1],
+               vec[2], mats[2:5], vec[3:7])
+        wrench = bearing_wrenches(ys, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, bfilm,
+                                  baxes)
+        start = 7 * count + 6 * nbr * s
+        for br in range(nbr):             # element by element: ``out[...] = wrench.ravel()`` makes numba
+            for i in range(6):            # compile its shape-mismatch message (3 s of a 28 s compile)
+                out[start + 6 * br + i] = wrench[br, i]
     return out
 
 
@@ -1005,15 +991,15 @@ FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_s
              "potential", "_quadratic", "bearing_wrenches", "_evaluate", "rhs_flat")
 #: steps of ``assemble_into`` and ``potential``, inlined into them by numba (``inline="always"``):
 #: called as functions with many array arguments they would cost time in the right-hand side; and
-#: functions with one compiled caller (``_evaluate`` in ``rhs_flat``, ``_solve_motion`` in
-#: ``_evaluate``): each compiled function of its own is optimised and translated to machine code
-#: again in every compiled caller above it. Not ``assemble_into``, ``potential`` or
-#: ``bearing_wrenches``: numba copies an inlined function's code block by block, with all its
-#: variables each time, and types it again in the caller (the first compile took 24.6 s of CPU
-#: with these three inlined too, 16-17 s without)
+#: ``_evaluate`` in ``rhs_flat``, ``rhs`` in ``_evaluate``: each compiled function of its own is
+#: optimised and translated to machine code again in every compiled caller above it. Not
+#: ``assemble_into``, ``potential`` or ``bearing_wrenches``: numba copies an inlined function's code
+#: block by block, with all its variables each time, and types it again in the caller (the first
+#: compile took 24.6 s of CPU with these and ``_solve_motion`` inlined, 16-17 s without); nor
+#: ``_solve_motion``: inlined, it made the right-hand side 3-11 % slower
 INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
            "_add_bearing_forces", "_suspension_energy", "_center_of_mass",
-           "_evaluate", "_solve_motion")
+           "_evaluate", "rhs")
 #: compiled functions called only from other compiled functions: no wrapper for calls from Python.
 #: Not the film's kernel (``_sommerfeld_angle``, ``_film_force``): the flexible rotors' journal
 #: model compiles them too and calls ``_film_force`` from Python (``flexible_journal.FILM_FUNCTIONS``),

@@ -819,17 +819,47 @@ def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcoun
     return out
 
 
-def rhs_flat(t, y, floats, ints):
-    """:func:`rhs` with its arguments packed by :func:`pack` (cheaper to call from Python); with
-    ``ints[6] = count > 0`` (:func:`pack_arguments` with output times), :func:`sample_outputs` of
-    ``count`` states instead.
+def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
+                   A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
+    """Per-sample derived outputs; see :func:`rotordyn_modal.simulation._kernels.sample_outputs`."""
+    count = times.shape[0]
+    n = states.shape[1] // 2
+    kinetic, elastic, weight = np.empty(count), np.empty(count), np.empty(count)
+    torque, omega = np.empty(count), np.empty((count, 3))
+    wrenches = np.empty((count, bbody.shape[0], 6))
+    work = np.empty(n * n + 2 * n)
+    M = work[:n * n].reshape((n, n))
+    f = work[n * n:n * n + n]
+    qdd = work[n * n + n:]
+    mats = np.empty((5, 3, 3))
+    vec = np.empty((7, 3))
+    for s in range(count):
+        y = states[s]
+        for i in range(n * n + n):
+            work[i] = 0.0
+        assemble_into(times[s], y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+                      spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f)
+        total = 0.0
+        for i in range(n):
+            for k in range(n):
+                total += y[n + i] * M[i, k] * y[n + k]
+        kinetic[s] = 0.5 * total
+        torque[s] = _solve_motion(M, f, times[s], mode, accel, t_start, t_stop, qdd, nf, slot, ntrans)
+        elastic[s], weight[s] = potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3,
+                                          spos, sK, bbody, bpos, bspeeds, bcount, bK, bC)
+        _frame(y, n, e, E2, nf, mats[0], mats[1], vec[0], omega[s], vec[1], vec[2], mats[2:5], vec[3:7])
+        wrench = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, bfilm,
+                                  baxes)
+        for br in range(wrench.shape[0]):     # element by element: ``wrenches[s] = ...`` makes numba
+            for i in range(6):                # compile its shape-mismatch message (3 s of a 28 s compile)
+                wrenches[s, br, i] = wrench[br, i]
+    return kinetic, elastic, weight, torque, omega, wrenches
 
-    One compiled function for both (:func:`_evaluate`): numba builds ``assemble_into``, the solve
-    and all they call into the machine code of each compiled caller again, so a second compiled
-    function for the outputs built them all a second time.
-    """
-    nf, nb, ns, nbr, length, mode, count = ints[0], ints[1], ints[2], ints[3], ints[4], ints[5], ints[6]
-    o = 7
+
+def rhs_flat(t, y, floats, ints):
+    """:func:`rhs` with its arguments packed by :func:`pack` (cheaper to call from Python)."""
+    nf, nb, ns, nbr, length, mode = ints[0], ints[1], ints[2], ints[3], ints[4], ints[5]
+    o = 6
     slot = ints[o:o + nb]
     o += nb
     ntrans = ints[o:o + nb]
@@ -874,79 +904,8 @@ def rhs_flat(t, y, floats, ints):
     o += 4 * nbr
     baxes = floats[o:o + 6 * nbr].reshape((nbr, 2, 3))
     o += 6 * nbr
-    return _evaluate(t, y, floats[o + 3:o + 3 + count], e, E2, nf, gravity, mass, center, offset, inertia,
-                     ratio, slot, ntrans, A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode,
-                     floats[o], floats[o + 1], floats[o + 2])
-
-
-def _evaluate(t, y, times, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-              spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
-    """No ``times``: :func:`rhs` at ``(t, y)``, shape (2n,). ``count`` output ``times`` (count,) [s]:
-    :func:`sample_outputs` of the ``count`` states ``y`` (count * 2n,), flat: ``kinetic``,
-    ``elastic``, ``weight``, ``torque`` (count each), ``omega`` (count, 3), ``wrenches``
-    (count, nbr, 6) (:func:`split_samples`). At most 30 arguments: Python 3.11 passes more as a
-    tuple (``*args``), which numba does not inline."""
-    count = times.shape[0]
-    if count == 0:
-        return rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3, spos, sK, sC,
-                   bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop)
-    n = y.shape[0] // (2 * count)
-    nbr = bbody.shape[0]
-    out = np.empty(count * (7 + 6 * nbr))
-    work = np.empty(n * n + 2 * n)
-    M = work[:n * n].reshape((n, n))
-    f = work[n * n:n * n + n]
-    qdd = work[n * n + n:]
-    mats = np.empty((5, 3, 3))
-    vec = np.empty((7, 3))
-    for s in range(count):
-        ys = y[2 * n * s:2 * n * (s + 1)]
-        for i in range(n * n + n):
-            work[i] = 0.0
-        assemble_into(times[s], ys, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-                      spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f)
-        total = 0.0
-        for i in range(n):
-            for k in range(n):
-                total += ys[n + i] * M[i, k] * ys[n + k]
-        out[s] = 0.5 * total
-        out[3 * count + s] = _solve_motion(M, f, times[s], mode, accel, t_start, t_stop, qdd, nf, slot, ntrans)
-        out[count + s], out[2 * count + s] = potential(ys, e, E2, nf, gravity, mass, center, offset, ratio, slot,
-                                                       ntrans, A3, spos, sK, bbody, bpos, bspeeds, bcount, bK, bC)
-        _frame(ys, n, e, E2, nf, mats[0], mats[1], vec[0], out[4 * count + 3 * s:4 * count + 3 * s + 3], vec[1],
-               vec[2], mats[2:5], vec[3:7])
-        wrench = bearing_wrenches(ys, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, bfilm,
-                                  baxes)
-        start = 7 * count + 6 * nbr * s
-        for br in range(nbr):             # element by element: ``out[...] = wrench.ravel()`` makes numba
-            for i in range(6):            # compile its shape-mismatch message (3 s of a 28 s compile)
-                out[start + 6 * br + i] = wrench[br, i]
-    return out
-
-
-def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
-                   A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
-    """Per-sample derived outputs through :func:`rhs_flat`; see
-    :func:`rotordyn_modal.simulation._kernels.sample_outputs`."""
-    return _samples_through(rhs_flat, times, states, (e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot,
-                                                      ntrans, A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC,
-                                                      bfilm, baxes, mode, accel, t_start, t_stop))
-
-
-def _samples_through(call, times, states, arguments):
-    """``sample_outputs(times, states, *arguments)`` made by ``call`` (:func:`rhs_flat`, plain or compiled)."""
-    times = np.ascontiguousarray(times, dtype=float)
-    states = np.ascontiguousarray(states, dtype=float)
-    floats, ints = pack_arguments(arguments, times)
-    flat = call(0.0, states.ravel(), floats, ints)
-    return split_samples(flat, len(times), len(arguments[15]))
-
-
-def split_samples(flat, count, nbr):
-    """``(kinetic, elastic, weight, torque, omega, wrenches)``, shapes (count,) x 4, (count, 3) and
-    (count, nbr, 6), from the flat outputs of :func:`_evaluate` (views of ``flat``)."""
-    return (flat[:count], flat[count:2 * count], flat[2 * count:3 * count], flat[3 * count:4 * count],
-            flat[4 * count:7 * count].reshape((count, 3)), flat[7 * count:].reshape((count, nbr, 6)))
+    return rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3, spos, sK, sC,
+               bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, floats[o], floats[o + 1], floats[o + 2])
 
 
 def pack(system, mode, accel, t_start, t_stop):
@@ -954,15 +913,14 @@ def pack(system, mode, accel, t_start, t_stop):
     return pack_arguments(system.kernel_arguments() + (mode, accel, t_start, t_stop))
 
 
-def pack_arguments(arguments, times=()):
-    """``(floats, ints)`` for :func:`rhs_flat` from :func:`rhs`'s arguments after ``(t, y)``; with
-    output ``times`` (count,) [s], for :func:`sample_outputs` of ``count`` states."""
+def pack_arguments(arguments):
+    """``(floats, ints)`` for :func:`rhs_flat` from :func:`rhs`'s arguments after ``(t, y)``."""
     (e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3, spos, sK, sC, bbody, bpos,
      bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop) = arguments
     parts = [e, E2, gravity, mass, center, offset, inertia, ratio, A3, spos, sK, sC, bpos, bspeeds, bK, bC, bfilm,
-             baxes, [accel, t_start, t_stop], times]
+             baxes, [accel, t_start, t_stop]]
     floats = np.concatenate([np.ascontiguousarray(p, dtype=float).ravel() for p in parts])
-    sizes = [nf, len(mass), len(spos), len(bbody), np.shape(bspeeds)[1], mode, len(times)]
+    sizes = [nf, len(mass), len(spos), len(bbody), np.shape(bspeeds)[1], mode]
     ints = np.concatenate([np.array(sizes, dtype=np.int64), slot, ntrans, bbody, bcount]).astype(np.int64)
     return floats, ints
 
@@ -975,31 +933,20 @@ def packed(compiled_rhs_flat):
     return rhs
 
 
-def sampled(compiled_rhs_flat):
-    """:func:`sample_outputs` called from Python through ``compiled_rhs_flat`` (numba's
-    :func:`rhs_flat`), so that numba compiles one function for the right-hand side and the outputs."""
-    def sample_outputs(times, states, *arguments):
-        return _samples_through(compiled_rhs_flat, times, states, arguments)
-    return sample_outputs
-
-
 FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_solve_ordered",
              "_solve_order", "_rows_below", "_solve_mass", "_interpolate", "_frame", "_relative", "_bearing_stretch",
              "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now",
              "assemble_into", "_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
              "_add_bearing_forces", "_suspension_energy", "_center_of_mass", "assemble", "_solve_motion", "rhs",
-             "potential", "_quadratic", "bearing_wrenches", "_evaluate", "rhs_flat")
+             "potential", "_quadratic", "bearing_wrenches", "sample_outputs", "rhs_flat")
 #: steps of ``assemble_into`` and ``potential``, inlined into them by numba (``inline="always"``):
 #: called as functions with many array arguments they would cost time in the right-hand side; and
-#: ``_evaluate`` in ``rhs_flat``, ``rhs`` in ``_evaluate``: each compiled function of its own is
-#: optimised and translated to machine code again in every compiled caller above it. Not
-#: ``assemble_into``, ``potential`` or ``bearing_wrenches``: numba copies an inlined function's code
-#: block by block, with all its variables each time, and types it again in the caller (the first
-#: compile took 24.6 s of CPU with these and ``_solve_motion`` inlined, 16-17 s without); nor
-#: ``_solve_motion``: inlined, it made the right-hand side 3-11 % slower
+#: functions with one compiled caller (the steps of the solve, ``rhs`` in ``rhs_flat``,
+#: ``potential`` and ``bearing_wrenches`` in ``sample_outputs``): each compiled function of its own
+#: is optimised and translated to machine code again in every compiled caller above it
 INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
            "_add_bearing_forces", "_suspension_energy", "_center_of_mass",
-           "_evaluate", "rhs")
+           "rhs")
 #: compiled functions called only from other compiled functions: no wrapper for calls from Python.
 #: Not the film's kernel (``_sommerfeld_angle``, ``_film_force``): the flexible rotors' journal
 #: model compiles them too and calls ``_film_force`` from Python (``flexible_journal.FILM_FUNCTIONS``),

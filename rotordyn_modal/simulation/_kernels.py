@@ -462,7 +462,7 @@ def point_partials(y, e, E2, nf, A3, r, j, kt, center, point):
 
 
 #: kernels replaced by their allocation-light versions of ``_fast`` when compiled
-_FAST = ("assemble", "rhs", "potential", "bearing_wrenches")
+_FAST = ("assemble", "rhs", "potential", "bearing_wrenches", "sample_outputs")
 _KINEMATICS = ("skew", "_coefficients", "_inverse_coefficient", "rotation_tensor", "zhilin_tensor",
                "zhilin_inverse", "zhilin_derivative", "axial_rotation")
 _KERNELS = ("cross", "drive_acceleration", "frame_kinematics", "relative_motion", "body_kinematics",
@@ -496,8 +496,7 @@ def compiled_namespace():
         namespace[name] = fast[name]
     compiled = types.SimpleNamespace(**{name: namespace[name] for name in _KERNELS})
     compiled.rhs_flat = fast["rhs_flat"]
-    compiled.rhs = _fast.packed(fast["rhs_flat"])     # one compiled function for both
-    compiled.sample_outputs = _fast.sampled(fast["rhs_flat"])
+    compiled.rhs = _fast.packed(fast["rhs_flat"])     # ``rhs`` is inlined into ``rhs_flat``
     return compiled
 
 

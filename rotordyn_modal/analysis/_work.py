@@ -18,7 +18,8 @@ The estimate adds three parts (``docs/theory.md``, "How long a sweep takes"):
   measured 2.8 ms at 126, 6.5 ms at 406, 25-35 ms at 2,006 coordinates), plus a dense
   factorisation of the pencil per crossing where the pencil is factored dense (below
   ``_pencils.SPARSE_DOF`` coordinates) and ``_DENSE_ROOTS`` eigenvalue-only solutions where its
-  candidates are every root (up to ``_pencils.NEAREST_ROOTS_DOF`` coordinates);
+  candidates are every root (up to ``_pencils.NEAREST_ROOTS_DOF`` coordinates, but not where the
+  mode is picked among Ritz pairs: constant coefficients from ``_crossing_roots._RITZ_DOF``);
 - the numbers ``modes --speed`` gives the critical speeds' modes (``critical-speeds``' column
   ``mode_at_speed``): the roots solved at a share ``_NUMBERS_SHARE`` of the crossings, each the
   eigenvalues alone (``_cost.EIGVALS_SHARE`` of a solution with vectors).
@@ -218,14 +219,29 @@ def _n_states(model) -> int:
     return 2 * model.dofs.n
 
 
-def _crossing_seconds(n_dof: int, n_states: int, eig: float) -> float:
-    """CPU seconds of one crossing's refinement (see the module's notes)."""
+def _crossing_seconds(n_dof: int, n_states: int, eig: float, ritz: bool = False) -> float:
+    """CPU seconds of one crossing's refinement (see the module's notes); ``ritz``: its mode is
+    picked among Ritz pairs (:func:`_picks_from_ritz_pairs`), no root of the whole state matrix
+    solved."""
     from . import _pencils
 
     dense = eig * _FACTOR_SHARE if n_dof < _pencils.SPARSE_DOF else 0.0
-    if n_dof <= _pencils.NEAREST_ROOTS_DOF:             # every root of the state matrix a candidate
+    if n_dof <= _pencils.NEAREST_ROOTS_DOF and not ritz:       # every root of the state matrix a candidate
         dense += _DENSE_ROOTS * _cost.EIGVALS_SHARE * eig
     return _COORDINATE_SECONDS * n_dof + dense
+
+
+def _picks_from_ritz_pairs(model, n_states: int) -> bool:
+    """Whether the critical speeds of ``model`` (one model, ``n_states`` states) pick a crossing's
+    mode among Ritz pairs of the sweep's shapes rather than among every root of the state matrix
+    (``_crossing_roots._by_ritz``: constant coefficients, no Maxwell branches, more than
+    ``_crossing_roots._RITZ_DOF`` coordinates; the 11-, 15- and 20-rotor gear chains, 50-86
+    coordinates, solve no state matrix whole for their 669-1,983 crossings)."""
+    from . import _crossing_roots, _pencils
+
+    n_dof = model.dofs.n
+    return (_crossing_roots._RITZ_ROOTS > 0 and not model.speed_dependent and n_states == 2 * n_dof
+            and n_dof > max(min(_crossing_roots._RITZ_DOF, _pencils.NEAREST_ROOTS_DOF), _crossing_roots._NEAREST_ROOTS))
 
 
 def estimate(model, speeds, orders=(), critical=True, numbers=False, solutions=None) -> Work:
@@ -242,7 +258,7 @@ def estimate(model, speeds, orders=(), critical=True, numbers=False, solutions=N
         frequencies = _undamped_frequencies(model, float(speeds[len(speeds) // 2])) if len(speeds) else None
         crossings = expected_crossings(model, speeds, orders, frequencies)
         again = swept_again(model, speeds, orders, frequencies)
-    per = _crossing_seconds(n_dof, n_states, eig)
+    per = _crossing_seconds(n_dof, n_states, eig, _picks_from_ritz_pairs(model, n_states))
     return Work(n_dof, n_states, solutions, crossings, (solutions + again) * eig, crossings * per,
                 crossings * _NUMBERS_SHARE * _cost.EIGVALS_SHARE * eig if numbers else 0.0, again)
 

@@ -1455,8 +1455,8 @@ _BELOW = 2.0
 
 
 def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False, split=1, straddle=()):
-    """:func:`boxes_around_array` as a :class:`BoxList`."""
-    return BoxList(boxes_around_array(x, y, w, h, pad, clear, rows, columns, across, split, straddle))
+    """:func:`boxes_around_array` as a :class:`BoxRows`."""
+    return BoxRows(boxes_around_array(x, y, w, h, pad, clear, rows, columns, across, split, straddle))
 
 
 def boxes_around_array(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False, split=1,
@@ -1501,36 +1501,32 @@ def boxes_around_array(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_CO
     return boxes[np.argsort(np.hypot(du, dv), kind="stable")]
 
 
-class BoxList(list):
-    """Boxes (left, bottom, right, top) as a list of tuples, and the same numbers as an (n, 4)
-    array (``array``): the list is asked about box by box, the array all at once (made from the
-    list again for each question, it cost as much as the questions)."""
-
-    def __init__(self, array):
-        self.array = np.asarray(array, float).reshape(-1, 4)
-        super().__init__(tuple(box) for box in self.array.tolist())
-
-    def taken(self, mask) -> "BoxList":
-        """The boxes where ``mask`` (n,) is True, in order."""
-        return BoxList(self.array[mask])
-
-
 class BoxRows:
-    """Boxes (left, bottom, right, top) as an (n, 4) array (``array``), read one by one as tuples
-    made when asked (:func:`first_free_box` reads few of many; a :class:`BoxList` makes every tuple)."""
+    """Boxes (left, bottom, right, top) as an (n, 4) array (``array``), read as tuples: one at a
+    time (``boxes[k]``, made when asked: :func:`first_free_box` reads few of many), or all by
+    iterating (each made once then, and kept: the UCS placer reads every box, some several
+    times). Questions about all of them at once read ``array``."""
 
     def __init__(self, array):
         self.array = np.asarray(array, float).reshape(-1, 4)
+        self._rows = None
 
     def __len__(self):
         return len(self.array)
 
     def __getitem__(self, k):
+        if self._rows is not None:
+            return self._rows[k]
         return tuple(self.array[k].tolist())
+
+    def __iter__(self):
+        if self._rows is None:
+            self._rows = [tuple(box) for box in self.array.tolist()]
+        return iter(self._rows)
 
 
 def as_boxes(boxes):
-    """``boxes`` (a :class:`BoxList`, a list of boxes or an array) as an (n, 4) array."""
+    """``boxes`` (a :class:`BoxRows`, a list of boxes or an array) as an (n, 4) array."""
     array = getattr(boxes, "array", None)
     return array if array is not None else np.asarray(boxes, float).reshape(-1, 4)
 
@@ -1767,7 +1763,7 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
         return clear(box) and not curves.cut(start, point, circle) and curves.along(start, point, circle) <= 0.5 * h \
             and not _through_circles(start, point, circles)
 
-    near = BoxList(as_boxes(candidates)[box_distances(candidates, *point) <= _MOST_COST * h])
+    near = BoxRows(as_boxes(candidates)[box_distances(candidates, *point) <= _MOST_COST * h])
     _clear_each(near, point, drawn, curves, square, quick)
     if stage == "count":
         free = np.nonzero(_inside_and_clear(near, placed, (gap, gap), frame, ()))[0]

@@ -972,7 +972,7 @@ def along_each(segments, starts, ends, reach, degrees, bounds=None):
     A leader line so near a curve and so nearly parallel to it reads as a piece of that curve,
     or as a second curve beside it, not as a pointer (flexible_pump_on_mounts' '700': 40 points
     long, 3.5 degrees off mode 5's line and under 3 points from it). The points are taken every
-    ``reach / 8`` along each segment (the lengths are that exact); ``bounds``
+    ``reach / 8`` along each segment (each length is exact to that); ``bounds``
     (:func:`segment_bounds` of ``segments``): only the segments near each are tested.
 
     Returns
@@ -988,21 +988,23 @@ def along_each(segments, starts, ends, reach, degrees, bounds=None):
     low, high = bounds if bounds is not None else segment_bounds(segments)
     ways = ends - starts
     sizes = np.hypot(ways[:, 0], ways[:, 1])
+    reach_low, reach_high = np.minimum(starts, ends) - reach, np.maximum(starts, ends) + reach
+    # the segments near any of the leaders first, then each leader's: near it, within the angle
+    # either way (a curve's direction has no sense here), not a point
+    some = np.flatnonzero(np.all((high >= reach_low.min(axis=0)) & (low <= reach_high.max(axis=0)), axis=1))
+    segments, low, high = segments[some], low[some], high[some]
     pieces = segments[:, 2:] - segments[:, :2]
     pieces_size = np.hypot(pieces[:, 0], pieces[:, 1])
-    sine = np.sin(np.radians(degrees))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        way = ways / sizes[:, None]
+    near = np.all((high[None] >= reach_low[:, None]) & (low[None] <= reach_high[:, None]), axis=2)      # (n, m)
+    near &= (pieces_size > 0)[None] & (np.abs(way[:, :1] * pieces[None, :, 1] - way[:, 1:] * pieces[None, :, 0])
+                                       <= np.sin(np.radians(degrees)) * pieces_size[None])
     step = reach / 8.0
-    for k in np.flatnonzero(sizes > 0):
-        way = ways[k] / sizes[k]
-        near = np.all((high >= np.minimum(starts[k], ends[k]) - reach)
-                      & (low <= np.maximum(starts[k], ends[k]) + reach), axis=1)
-        # within the angle either way (a curve's direction has no sense here), not a point
-        near &= (pieces_size > 0) & (np.abs(way[0] * pieces[:, 1] - way[1] * pieces[:, 0]) <= sine * pieces_size)
-        if not near.any():
-            continue
+    for k in np.flatnonzero((sizes > 0) & near.any(axis=1)):
         count = int(np.ceil(sizes[k] / step))
         points = starts[k] + ((np.arange(count) + 0.5) / count)[:, None] * ways[k]        # (count, 2)
-        first, piece, size = segments[near, :2], pieces[near], pieces_size[near]
+        first, piece, size = segments[near[k], :2], pieces[near[k]], pieces_size[near[k]]
         t = np.clip(((points[:, None, :] - first[None]) * piece[None]).sum(axis=2) / (size * size)[None], 0.0, 1.0)
         off = points[:, None, :] - (first[None] + t[..., None] * piece[None])
         within = np.any(off[..., 0] ** 2 + off[..., 1] ** 2 <= reach * reach, axis=1)

@@ -18,7 +18,10 @@ Figures (each ``result.plot()`` and ``savefig`` to PNG at 150 dpi, the analysis 
   channels of ``tests/test_report_estimate27r.py``, API 684, 3000 rpm, 21 points): its sweep
   from ``report.collect``, drawn as ``report.render`` draws it and saved by ``figure_png``;
 * ``campbell-compressor``: compressor_rotor's Campbell diagram, 0 .. 15000 rpm at 151 speeds,
-  orders 1, 2.
+  orders 1, 2;
+* ``campbell-motor-pump``: motor_pump_on_mounts' Campbell diagram, 0 .. 3600 rpm at 181 speeds,
+  orders 1, 2 (modes from 5 Hz to 1.2 kHz on a logarithmic axis; the leaders that ran along its
+  mode lines, issue 27 §3).
 
 Each drawing runs in a process of its own (one thread), the two trees in turn, ``--repeat``
 times; each process loads its tree's results from a pickle made once per tree (in
@@ -43,7 +46,7 @@ from _timing import print_base_ratio  # noqa: E402  (benchmarks/ is on sys.path 
 
 ROOT = Path(__file__).resolve().parent.parent
 FIGURES = ("ucs-fan-all", "ucs-plain", "ucs-fan-e10", "campbell-fan", "campbell-chain40", "campbell-chain60",
-           "campbell-report6", "campbell-compressor")
+           "campbell-report6", "campbell-compressor", "campbell-motor-pump")
 
 _CHILD = r'''
 import importlib, io, os, pickle, sys, time, tomllib
@@ -81,6 +84,8 @@ def results():
     out["campbell-report6"] = (data.results["campbell"], data.model_info["name"], data.inputs.range)
     out["campbell-compressor"] = rdm.campbell(rdm.load_model(examples / "compressor_rotor.toml"),
                                               rdm.rpm(np.linspace(0.0, 15000.0, 151)), orders=(1, 2))
+    out["campbell-motor-pump"] = rdm.campbell(rdm.load_model(examples / "motor_pump_on_mounts.toml"),
+                                              rdm.rpm(np.linspace(0.0, 3600.0, 181)), orders=(1, 2))
     return out
 
 

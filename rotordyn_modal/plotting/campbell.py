@@ -8,7 +8,7 @@ from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, BoxRows, CurveMap, box_distance, box_distances, boxes_around_array,
                       column_positions, crossing_pairs, cuts, cuts_each, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, font_points, lay_out_again_when,
-                      nearest_each, nearest_in, operating_band, segment_bounds, set_if_changed, text_size,
+                      along_each, nearest_each, nearest_in, operating_band, segment_bounds, set_if_changed, text_size,
                       _drawn_segments, _overlap, _ROW_SPLIT, _segments_crossed, _short_orders, touching_groups)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
@@ -68,6 +68,20 @@ _ACROSS = (-0.2, 0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0, 1.2)
 #: widths) each side of the circle (:meth:`_CampbellLabels._wider_box`); where none has either,
 #: the speed goes to the note: a leader across another mode's curve reads as naming that mode
 _WIDE_COLUMNS = 4
+#: a leader line within this many points of a mode's curve, at an angle below
+#: :data:`_ALONG_DEGREES` to it, over :data:`_ALONG_POINTS` or more and :data:`_ALONG_SHARE` of its
+#: length or more, runs along that curve: it reads as a piece of it or as a second curve beside it
+#: (flexible_pump_on_mounts' '700' hung 40 points right of its circle on a leader 3.5 degrees off
+#: mode 5's line and under 3 points from it). No label takes such a leader: a box with a shorter
+#: or steeper one does, else the speed goes to the note. (Nearer than about 4 points, two thin
+#: lines read as one doubled line; within 15 degrees, as parallel over a label's width.)
+_ALONG_REACH_POINTS, _ALONG_DEGREES, _ALONG_POINTS, _ALONG_SHARE = 4.0, 15.0, 8.0, 1 / 3
+#: the same beside an order line, within this angle: an order line runs straight through every
+#: critical speed's circle, steep at low speeds, where the short steep leaders go; a leader a few
+#: degrees off it reads as a second order line (unstable_cross_coupled's '5.76' Hz, straight up
+#: 1 to 2 points beside the 2X line), one 10 degrees off opens away from it (gear_machine's '561'
+#: at 0:12000:241, straight up between two order lines, 7 points off the 1X motor line at its end)
+_ALONG_ORDER_DEGREES = 6.0
 
 
 #: a right-edge label reaching nearer the figure's edge than this [pixels] has the figure laid
@@ -832,7 +846,7 @@ class _CampbellLabels:
         self._set_scales(renderer)
         self.curves = CurveMap(ax, renderer, skip=self.leaders + self.critical_leaders + self.key_leaders,
                                units="axes")
-        self.renderer, self.mode_map = renderer, None
+        self.renderer, self.mode_map, self.order_map = renderer, None, None
         self.recorded = []          # the first run's settings, in order (:meth:`_set`)
         placed = self._place_all(renderer)
         first, self.recorded = (self.recorded, self.leader_lines, self.shared, placed), None
@@ -1200,8 +1214,13 @@ class _CampbellLabels:
 
         def uncrossed(boxes, ok):
             # of the boxes (n, 4) the mask ``ok`` passes, those whose leaders cross no mode's curve
+            # and run along no curve
             ok = ok.copy()
-            ok[ok] = self._mode_cuts_each(nearest_each(boxes[ok], anchor), anchor, circle) == 0
+            starts = nearest_each(boxes[ok], anchor)
+            ok[ok] = self._mode_cuts_each(starts, anchor, circle) == 0
+            if ok.any():
+                starts = nearest_each(boxes[ok], anchor)
+                ok[ok] = ~self._runs_along_each(starts, self._short_of_each(starts, anchor, clear_px))
             return ok
 
         # a leader across a mode's curve reads as pointing at that mode (compressor_rotor's
@@ -1271,7 +1290,8 @@ class _CampbellLabels:
         grid reaches (out to :data:`_WIDE_COLUMNS` label widths), within :data:`_MOST_COST` label
         heights, nearest first, its leader crossing no curve (``uncrossed``, a mask of boxes); or None. The boxes
         ``tried`` already are left out. flexible_pump_on_mounts' '700' (0:3600:121) crossed mode
-        5's line from every box of the grid; a box 2.5 label widths right, between the curves, is clear.
+        5's line from every box of the grid; a box 2.5 label widths right, between the curves, is clear
+        (its leader, though, runs along mode 5's line: ``uncrossed`` refuses it now, and '700' goes to the note).
 
         Parameters
         ----------
@@ -1374,6 +1394,30 @@ class _CampbellLabels:
         counts (n,), the same numbers (:func:`~._labels.cuts_each`)."""
         segments, origin, size, bounds = self._mode_map()
         return cuts_each(segments, origin, size, starts, end, keep, bounds=bounds)
+
+    def _runs_along_each(self, starts, ends):
+        """Whether each leader ``starts[k] -> ends[k]`` ((n, 2), axes fraction; as drawn) runs
+        along a mode's curve or an order line (:data:`_ALONG_REACH_POINTS`,
+        :data:`_ALONG_ORDER_DEGREES`; :func:`~._labels.along_each`). Mask (n,)."""
+        runs = np.zeros(len(starts), bool)
+        for (segments, origin, size, bounds), degrees in ((self._mode_map(), _ALONG_DEGREES),
+                                                          (self._order_map(), _ALONG_ORDER_DEGREES)):
+            scale = np.asarray(size, float)
+            starts_px, ends_px = np.asarray(origin) + starts * scale, np.asarray(origin) + ends * scale
+            along = along_each(segments, starts_px, ends_px, _ALONG_REACH_POINTS * self.points, degrees, bounds)
+            runs |= along >= np.maximum(_ALONG_POINTS * self.points, _ALONG_SHARE * np.hypot(*(ends_px - starts_px).T))
+        return runs
+
+    def _order_map(self):
+        """The order lines' drawn segments [pixels], the axes' origin and size [pixels] and the
+        segments' bounds (as :meth:`_mode_map`), taken once per drawing."""
+        if self.order_map is None:      # place() sets it to None before any leader is placed
+            ax = self.ax
+            frame = ax.get_window_extent(self.renderer)
+            others = [line for line in ax.get_lines() if line.get_gid() != "order-line"] + list(ax.collections)
+            segments = _drawn_segments(ax, others, (frame.x0, frame.y0, frame.x1, frame.y1))
+            self.order_map = (segments, (frame.x0, frame.y0), (frame.width, frame.height), segment_bounds(segments))
+        return self.order_map
 
     def _mode_map(self):
         """The drawn segments of the curves but the order lines [pixels], the axes' origin and size

@@ -87,13 +87,25 @@ def test_no_critical_speed_leader_crosses_a_modes_curve_on_the_compressor():
     markers = ax.transData.transform(np.column_stack([result.critical.speeds * 30 / np.pi,
                                                       result.critical.frequencies_hz]))
     radius = 0.5 * 6 * fig.dpi / 72.0 + 0.5          # the circle's (6 points across) and half a pixel
-    # (no leader since leaders40: '11115' stands under its circle; its leader, drawn here before,
-    # ran 2 degrees off the 1X order line and under 3.5 points from it, and is refused)
     for line in leaders:
         start, end = line.get_transform().transform(np.column_stack([line.get_xdata(), line.get_ydata()]))
         anchor = markers[np.argmin(np.hypot(*(markers - end).T))]
         hits = segment_crossings(start, end, modes, anchor=anchor, radius=radius)
         assert not len(hits), (start, end, anchor, hits)
+    # a label without a leader (since leaders40 '11115' stands under its circle: its leader ran 2
+    # degrees off the 1X order line, under 3.5 points from it) reads as naming the circle nearest
+    # it: that is its own crossing, and no mode's curve passes between them
+    renderer = fig.canvas.get_renderer()
+    speeds = result.critical.speeds * 30 / np.pi
+    for label in labels:
+        if any(np.allclose(line.get_xydata()[0], label.get_position()) for line in leaders):
+            continue
+        box = label.get_window_extent(renderer)
+        own = markers[np.argmin(np.abs(speeds - float(label.get_text().split("/")[0])))]
+        nearest = np.clip(own, [box.x0, box.y0], [box.x1, box.y1])
+        assert np.argmin(np.hypot(*(markers - nearest).T)) == np.argmin(np.hypot(*(markers - own).T)), label.get_text()
+        hits = segment_crossings(nearest, own, modes, anchor=own, radius=radius)
+        assert not len(hits), (label.get_text(), nearest, own, hits)
     plt.close(fig)
 
 

@@ -35,8 +35,14 @@ def _by_ritz(stack, shapes, iterates) -> bool:
     (see :func:`_roots_near`)."""
     return (_RITZ_ROOTS > 0 and shapes is not None and iterates.shape.shape[-1] > 0 and len(stack) == 1
             and not stack.dependent
-            and not stack.branch_times.shape[-1]
-            and stack.n_dof > max(min(_RITZ_DOF, _pencils.NEAREST_ROOTS_DOF), _NEAREST_ROOTS))
+            and not stack.branch_times.shape[-1] and ritz_sized(stack.n_dof))
+
+
+def ritz_sized(n_dof: int) -> bool:
+    """Whether a pencil of ``n_dof`` coordinates is large enough for :func:`_by_ritz`'s route:
+    more than ``_RITZ_DOF`` coordinates (or than ``_pencils.NEAREST_ROOTS_DOF``, where that is
+    lower), and than ``_NEAREST_ROOTS``."""
+    return n_dof > max(min(_RITZ_DOF, _pencils.NEAREST_ROOTS_DOF), _NEAREST_ROOTS)
 
 
 def _ritz_evaluated(stack, speeds, values, shapes, weighted, brackets, rows, x, iterates):

@@ -237,11 +237,10 @@ def _picks_from_ritz_pairs(model, n_states: int) -> bool:
     (``_crossing_roots._by_ritz``: constant coefficients, no Maxwell branches, more than
     ``_crossing_roots._RITZ_DOF`` coordinates; the 11-, 15- and 20-rotor gear chains, 50-86
     coordinates, solve no state matrix whole for their 669-1,983 crossings)."""
-    from . import _crossing_roots, _pencils
+    from . import _crossing_roots
 
-    n_dof = model.dofs.n
-    return (_crossing_roots._RITZ_ROOTS > 0 and not model.speed_dependent and n_states == 2 * n_dof
-            and n_dof > max(min(_crossing_roots._RITZ_DOF, _pencils.NEAREST_ROOTS_DOF), _crossing_roots._NEAREST_ROOTS))
+    return (_crossing_roots._RITZ_ROOTS > 0 and not model.speed_dependent and n_states == 2 * model.dofs.n
+            and _crossing_roots.ritz_sized(model.dofs.n))
 
 
 def estimate(model, speeds, orders=(), critical=True, numbers=False, solutions=None) -> Work:

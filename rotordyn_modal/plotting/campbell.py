@@ -1217,9 +1217,10 @@ class _CampbellLabels:
             # and run along no curve
             ok = ok.copy()
             starts = nearest_each(boxes[ok], anchor)
-            ok[ok] = self._mode_cuts_each(starts, anchor, circle) == 0
+            uncut = self._mode_cuts_each(starts, anchor, circle) == 0
+            ok[ok] = uncut
             if ok.any():
-                starts = nearest_each(boxes[ok], anchor)
+                starts = starts[uncut]
                 ok[ok] = ~self._runs_along_each(starts, self._short_of_each(starts, anchor, clear_px))
             return ok
 
@@ -1413,23 +1414,24 @@ class _CampbellLabels:
         segments' bounds (as :meth:`_mode_map`), taken once per drawing."""
         if self.order_map is None:      # place() sets it to None before any leader is placed
             ax = self.ax
-            frame = ax.get_window_extent(self.renderer)
-            others = [line for line in ax.get_lines() if line.get_gid() != "order-line"] + list(ax.collections)
-            segments = _drawn_segments(ax, others, (frame.x0, frame.y0, frame.x1, frame.y1))
-            self.order_map = (segments, (frame.x0, frame.y0), (frame.width, frame.height), segment_bounds(segments))
+            self.order_map = self._segment_map([line for line in ax.get_lines() if line.get_gid() != "order-line"]
+                                               + list(ax.collections))
         return self.order_map
 
     def _mode_map(self):
         """The drawn segments of the curves but the order lines [pixels], the axes' origin and size
         [pixels] and the segments' bounds (:func:`~._labels.segment_bounds`), taken once per drawing."""
         if self.mode_map is None:      # place() sets it to None before any leader is placed
-            ax = self.ax
-            orders = [line for line in ax.get_lines() if line.get_gid() == "order-line"]
-            frame = ax.get_window_extent(self.renderer)
-            segments = _drawn_segments(ax, self.leaders + self.critical_leaders + self.key_leaders + orders,
-                                       (frame.x0, frame.y0, frame.x1, frame.y1))
-            self.mode_map = (segments, (frame.x0, frame.y0), (frame.width, frame.height), segment_bounds(segments))
+            orders = [line for line in self.ax.get_lines() if line.get_gid() == "order-line"]
+            self.mode_map = self._segment_map(self.leaders + self.critical_leaders + self.key_leaders + orders)
         return self.mode_map
+
+    def _segment_map(self, skip):
+        """The drawn segments of the axes' curves but ``skip`` [pixels], the axes' origin and size
+        [pixels] and the segments' bounds."""
+        frame = self.ax.get_window_extent(self.renderer)
+        segments = _drawn_segments(self.ax, skip, (frame.x0, frame.y0, frame.x1, frame.y1))
+        return segments, (frame.x0, frame.y0), (frame.width, frame.height), segment_bounds(segments)
 
     def _show_leader(self, line, leader, colour):
         if leader is None:

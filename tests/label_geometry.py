@@ -266,3 +266,23 @@ def marker_points(ax) -> list:
                 and line.get_marker() not in (None, "None", "", "."):
             points += list(zip(x, y))
     return points
+
+
+def assert_each_critical_speed_in_view_is_read(ax, critical, top_rpm, least=20):
+    """Assert that each critical speed of ``critical`` (a CriticalSpeeds result) inside the axes
+    ``ax`` (0 to ``top_rpm`` [rpm], within the frequency axis' limits; at least ``least`` of them)
+    is read in a visible critical-speed label or in the note of those left out, its speed
+    rounded to whole rpm; return the visible labels."""
+    import re
+
+    labels = [t for t in ax.texts if t.get_gid() == "critical-label" and t.get_visible()]
+    words = {w for t in labels for w in t.get_text().split("/")}
+    note = " ".join(t.get_text() for t in ax.texts if t.get_gid() == "critical-note" and t.get_visible())
+    rpm = critical.speeds * 30.0 / np.pi
+    low, high = ax.get_ylim()
+    shown = (rpm >= 0.0) & (rpm <= top_rpm) & (critical.frequencies_hz >= low) & (critical.frequencies_hz <= high)
+    assert shown.sum() >= least
+    for speed in rpm[shown]:
+        word = f"{speed:.0f}"
+        assert word in words or word in re.findall(r"\d+", note), (word, sorted(words), note)
+    return labels

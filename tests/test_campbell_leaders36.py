@@ -11,7 +11,6 @@ result's own table, never the placer's numbers.
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import matplotlib
@@ -19,7 +18,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from label_geometry import glyph_box
+from label_geometry import assert_each_critical_speed_in_view_is_read, glyph_box
 
 from test_figure_audit27p import _crossed_mode_curves
 
@@ -50,17 +49,7 @@ def test_no_critical_speed_leader_crosses_another_modes_curve(example, top):
     crossed = _crossed_mode_curves(fig, ax, result.critical)
     assert not crossed, crossed
 
-    labels = [t for t in ax.texts if t.get_gid() == "critical-label" and t.get_visible()]
-    words = {w for t in labels for w in t.get_text().split("/")}
-    note = " ".join(t.get_text() for t in ax.texts if t.get_gid() == "critical-note" and t.get_visible())
-    rpm = result.critical.speeds * 30.0 / np.pi
-    low, high = ax.get_ylim()
-    shown = (rpm >= 0.0) & (rpm <= top) & (result.critical.frequencies_hz >= low) \
-        & (result.critical.frequencies_hz <= high)
-    assert shown.sum() >= 20
-    for speed in rpm[shown]:
-        word = f"{speed:.0f}"
-        assert word in words or word in re.findall(r"\d+", note), (word, sorted(words), note)
+    labels = assert_each_critical_speed_in_view_is_read(ax, result.critical, top)
 
     frame = ax.get_window_extent(renderer)
     boxes = [glyph_box(t, renderer) for t in labels]

@@ -4,8 +4,8 @@
 spent its time on the estimate of the highest root wanted (``eigvals`` of the 72-state projected
 pencils of 36 modes), on the checks of its mode links (the reduced route again, with an 84-state
 estimate, for a few speeds) and on threads for batches of a millisecond. Checked here: the lowest
-twelve roots of every speed equal scipy's eigenvalues of the full state matrix built here from
-``Model.matrices``; the estimate projects on fewer modes, and where it is too low the basis is sized
+twelve roots of every speed equal scipy's eigenvalues of the full state matrix built from
+``Model.matrices`` (``test_tables39.state_roots``); the estimate projects on fewer modes, and where it is too low the basis is sized
 again from the careful one; the checks below ``_lowest.CHECK_DENSE_BELOW`` coordinates take the
 dense route; small batches of solves stay on one thread.
 """
@@ -17,13 +17,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import scipy.linalg
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _batches, _lowest, _lowest_starts, campbell
 from rotordyn_modal.analysis._lowest_pencils import _Pencils
 from rotordyn_modal.analysis._stack import Stack
 from rotordyn_modal.io.ross_file import read_ross_rotor
+from test_tables39 import state_roots
 
 DATA = Path(__file__).parent / "data" / "ross"
 
@@ -34,18 +34,6 @@ def ross_rotor(name: str, count: int):
     model = rdm.Model.from_dict(read_ross_rotor(path), source=path)
     reference = [case["speed"] for case in json.loads(path.with_suffix(".json").read_text())["modal"]]
     return model, np.linspace(min(reference), max(reference), count)
-
-
-def state_roots(model, speed):
-    """The oscillating roots of ``s^2 M + s (C + speed G) + K`` (upper half plane), by frequency:
-    scipy's eigenvalues of the state matrix built here."""
-    M, C, G, K = model.matrices(speed)
-    n = len(M)
-    inverse = np.linalg.inv(M)
-    A = np.block([[np.zeros((n, n)), np.eye(n)], [-inverse @ K, -inverse @ (C + speed * G)]])
-    roots = scipy.linalg.eigvals(A)
-    roots = roots[roots.imag > 0]
-    return roots[np.argsort(roots.imag)]
 
 
 def assert_lowest(model, speeds, values, count):

@@ -24,7 +24,7 @@ from ..model.flexible import (PLAUSIBLE_SHAFT_DIAMETER, POSITION_ROUND_OFF, late
                               with_mesh)
 from ..model.geometry import shift_matrix, transverse_axes
 
-__all__ = ["bearings", "check_frame", "journal_load_shares", "continuous_beam_loads", "LONGEST_JOURNAL",
+__all__ = ["bearings", "warn_transmitted_loads", "check_frame", "journal_load_shares", "continuous_beam_loads", "LONGEST_JOURNAL",
            "LONG_JOURNAL"]
 
 _ON_AXIS_TOLERANCE = 1e-6  # m, plus the same fraction of the distance along the axis
@@ -74,6 +74,36 @@ def bearings(tables: dict, rotors, spin_axis: np.ndarray, gravity: np.ndarray) -
         _check_tilt_support(rotor, mates, tables, spin_axis)
         _check_held(by_name[rotor], mates, tables, spin_axis)
     return parsed
+
+
+def warn_transmitted_loads(tables: dict, bearings, transmissions) -> None:
+    """One warning line for each rotor in a gear or belt transmission whose journal bearings take
+    their load from the weight alone (no ``load`` given): the tooth force or belt pull at the
+    operating point is not in that load, and the film's coefficients follow it.
+
+    Parameters
+    ----------
+    tables : dict of str to Table
+        The bearing tables by name.
+    bearings : sequence of Bearing
+        The validated bearings.
+    transmissions : sequence of Transmission
+    """
+    for rotor in dict.fromkeys(b.rotor for b in bearings):
+        links = [t for t in transmissions if rotor in (t.driver, t.driven)]
+        weighed = [b for b in bearings if b.rotor == rotor and b.type == "journal"
+                   and "load" not in tables[b.name].data]
+        if not links or not weighed:
+            continue
+        table = tables[weighed[0].name]
+        names = ", ".join(f"[bearings.{visible(b.name)}] {b.coefficients.journal.load:.4g} N" for b in weighed)
+        forces = " and ".join(dict.fromkeys("tooth force" if t.type == "gear" else "belt pull" for t in links))
+        how = ", ".join(f"{t.type} {visible(t.driver)} -> {visible(t.driven)}" for t in links)
+        warnings.warn(f"{table.source}: rotor {visible(rotor)!r} is in a transmission ({how}): the load of its "
+                      f"journals without `load` ({names}) is their share of the weight alone, without the {forces} "
+                      "at the operating point, and the film's coefficients follow the load (give load and "
+                      "load_direction; `static --transmitted-power` computes the loads, docs/static.md)",
+                      ModelWarning, stacklevel=2)
 
 
 # ----------------------------------------------------------------------------------------

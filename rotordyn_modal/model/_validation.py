@@ -98,6 +98,7 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
     bearings = reuse.bearings(data, rotors, spin_axis, gravity)
     if bearings is None:
         bearings = _bearing_validation.bearings(bearing_tables, rotors, spin_axis, gravity)
+        _bearing_validation.warn_transmitted_loads(bearing_tables, bearings, transmissions)
     on_bearings = {b.rotor for b in bearings}
     sensors = [reuse.part("sensors", i, t.data, names_kept and reuse.same_carriers(bearings) and not shafts)
                or _sensor(t, rotor_tables, on_bearings, shafts)

@@ -11,7 +11,6 @@ two journals puts m g / 2 on each.
 import warnings
 
 import numpy as np
-import pytest
 
 import rotordyn_modal as rdm
 from rotordyn_modal.errors import ModelWarning

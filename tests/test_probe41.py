@@ -1,0 +1,174 @@
+"""Inputs a new user tries that no earlier test named (session 41, issue 27's hidden checks).
+
+File names no file can have: a name longer than the file system takes (one name over 255 bytes,
+a path over 4096) ended every output and ``--measured`` with ``failed: OSError: [Errno 36]``
+(exit 1); a file's name followed by '/' (``m.toml/``, tab completion of a folder's habit) was
+read as the file itself by the model, study and measured readers (``pathlib`` drops the '/'),
+while the mapping and outline readers said "Not a directory". Each is now one line, exit 2,
+for every file option of every sub-command, before any work.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from quiet_cli import run_quietly
+from test_output_paths import FILE_OPTIONS, REQUIRED
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLE = ROOT / "examples" / "gear_machine.toml"
+
+#: an output's ending each option accepts (the ending is checked before the name)
+_ENDING = {"--plot": ".png", "--plot-shaft": ".png", "--plot-csr": ".png", "--plot-orbits": ".png",
+           "--plot-histogram": ".png", "--plot-map": ".png", "--plot-sensitivity": ".png", "--pdf": ".pdf"}
+_OUT_ENDING = {"study": ".nc", "fit": ".toml", "import-ross": ".toml", "report": ".html"}
+
+
+def _ending(command, option):
+    if option == "--out":
+        return _OUT_ENDING.get(command, ".csv")
+    return _ENDING.get(option, ".csv")
+
+
+def _argv(command, inputs, folder, output_option=None, output_path=None):
+    """``command`` with each input option naming ``inputs[option]``, its required options, and
+    ``output_option`` naming ``output_path`` (plus the --out a command requires)."""
+    argv = [command]
+    for option in FILE_OPTIONS[command][0]:
+        argv += [str(inputs[option])] if not option.startswith("-") else [option, str(inputs[option])]
+    argv += REQUIRED[command]
+    outputs = FILE_OPTIONS[command][1]
+    if output_option != "--out" and "--out" in outputs and command in ("study", "fit", "import-ross", "report"):
+        argv += ["--out", str(folder / f"other{_OUT_ENDING[command]}")]
+    if output_option:
+        argv += [output_option, str(output_path)]
+    return argv
+
+
+def _files(folder):
+    inputs = {}
+    for option in {o for inputs_, _ in FILE_OPTIONS.values() for o in inputs_}:
+        inputs[option] = folder / f"input{len(inputs)}.toml"
+        shutil.copyfile(EXAMPLE, inputs[option])
+    return inputs
+
+
+def _too_long(name) -> bool:
+    """Whether the file system refuses ``name`` as too long (asked of the OS, not of the code)."""
+    try:
+        os.stat(name)
+    except OSError as error:
+        return error.errno == errno.ENAMETOOLONG
+    return False
+
+
+def _one_line(code, err):
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1, (code, err)
+    assert "failed" not in lines[0] and "Traceback" not in err
+    return lines[0]
+
+
+_OUTPUTS = [(c, o) for c, (_, outs) in FILE_OPTIONS.items() for o in outs]
+_INPUTS = [(c, i) for c, (ins, _) in FILE_OPTIONS.items() for i in ins]
+
+
+def test_an_output_name_too_long_for_the_file_system_is_one_line_exit_2_for_every_output(tmp_path):
+    inputs = _files(tmp_path)
+    listing = sorted(os.listdir(tmp_path))
+    for command, option in _OUTPUTS:
+        for name in ("x" * 300 + _ending(command, option),                 # one name over 255 bytes
+                     "/".join(["d" * 200] * 25) + "/x" + _ending(command, option)):   # a path over 4096
+            path = tmp_path / name
+            assert _too_long(path)
+            line = _one_line(*run_quietly(_argv(command, inputs, tmp_path, option, path)))
+            assert option in line and "too long" in line, (command, option, line)
+            assert len(line) < 400, line              # the name shown by its ends, not all 5,000 characters
+    assert sorted(os.listdir(tmp_path)) == listing   # nothing written
+
+
+def test_an_input_name_too_long_or_ending_in_a_slash_is_one_line_exit_2_for_every_input(tmp_path):
+    inputs = _files(tmp_path)
+    for command, option in _INPUTS:
+        long_name = tmp_path / ("y" * 300 + ".csv")
+        assert _too_long(long_name)
+        slashed = f"{inputs[option]}/"
+        assert Path(slashed).is_file() and not os.path.isdir(slashed)   # pathlib drops the '/'; the OS refuses it
+        with pytest.raises(NotADirectoryError):
+            open(slashed).close()
+        for bad, said in ((str(long_name), "too long"), (slashed, "ends in '/'")):
+            given = dict(inputs, **{option: bad})
+            line = _one_line(*run_quietly(_argv(command, given, tmp_path)))
+            assert said in line, (command, option, line)
+
+
+def test_the_readers_refuse_a_file_name_followed_by_a_slash(tmp_path):
+    """The Python API alike: ``load_model('m.toml/')`` read m.toml."""
+    import rotordyn_modal as rdm
+    from rotordyn_modal.errors import InputError
+
+    model = tmp_path / "m.toml"
+    shutil.copyfile(EXAMPLE, model)
+    for name in (f"{model}/", f"{model}/."):
+        with pytest.raises(InputError, match="ends in '/'"):
+            rdm.load_model(name)
+    with pytest.raises(InputError, match="too long"):
+        rdm.load_model(tmp_path / ("m" * 300 + ".toml"))
+
+
+# --- measured FRFs as spreadsheets in other locales write them ---------------------------------
+
+_FREQS = np.array([5.0, 10.0, 15.0, 20.0])
+_H = np.array([7.5225091020702e-07 - 1.32483755216953e-07j, 1.00479714239142e-06 - 3.30749838023595e-07j,
+               -2.5e-08 + 3.25e-09j, -6.74809e-08 - 2.74137e-09j])
+
+
+def _decimal_comma(value: float) -> str:
+    """``value`` as a spreadsheet in a German locale writes it: '7,5225091020702E-07'."""
+    return f"{value:.14E}".replace(".", ",")
+
+
+def _read(path):
+    from rotordyn_modal.io.measured import read_measured
+    import rotordyn_modal as rdm
+
+    (frf,) = read_measured(path, rdm.load_model(EXAMPLE_RUBBER))
+    assert frf.outputs == ("acc-top-z",) and frf.inputs == ("hammer-z",)
+    return frf.frequencies_hz, frf.H[0, 0]
+
+
+EXAMPLE_RUBBER = ROOT / "examples" / "rubber_mounts.toml"
+
+
+@pytest.mark.parametrize("separator", [";", "\t"])
+def test_decimal_commas_in_exponent_notation_are_read(tmp_path, separator):
+    """Every value of a receptance is small, so such an export writes each in exponent notation;
+    the decimal comma was recognised only in cells without an exponent ('1,5'), and the file was
+    refused: "column real line 2 = '7,5225091020702E-07': expected a number"."""
+    lines = [separator.join(["frequency_hz", "output", "input", "real", "imag"])]
+    for f, h in zip(_FREQS, _H):
+        lines.append(separator.join([f"{f:g}", "acc-top-z", "hammer-z", _decimal_comma(h.real), _decimal_comma(h.imag)]))
+    path = tmp_path / "frf.csv"
+    path.write_text("\r\n".join(lines) + "\r\n", encoding="utf-8-sig")    # Windows line ends and a BOM too
+    freqs, h = _read(path)
+    np.testing.assert_array_equal(freqs, _FREQS)
+    np.testing.assert_allclose(h, _H, rtol=1e-14)
+
+
+@pytest.mark.parametrize("header,factor", [("Frequency [rad/s]", 2 * np.pi), ("Frequency [cpm]", 60.0),
+                                           ("Frequency [1/min]", 60.0)])
+def test_a_frequency_column_in_rad_s_or_cycles_per_minute_is_converted(tmp_path, header, factor):
+    """A frequency axis in rad/s (MATLAB's ``w``) or in cycles per minute (vibration analysers) was
+    refused: "unit 'rad/s' not understood: expected one of hz, khz", though the unit says what it is."""
+    rows = [f"{float(f * factor)!r},acc-top-z,hammer-z,{float(h.real)!r},{float(h.imag)!r}" for f, h in zip(_FREQS, _H)]
+    path = tmp_path / "frf.csv"
+    path.write_text("\n".join([f"{header},output,input,real,imag", *rows]) + "\n")
+    freqs, h = _read(path)
+    np.testing.assert_allclose(freqs, _FREQS, rtol=1e-15)
+    np.testing.assert_array_equal(h, _H)

@@ -172,3 +172,40 @@ def test_a_frequency_column_in_rad_s_or_cycles_per_minute_is_converted(tmp_path,
     freqs, h = _read(path)
     np.testing.assert_allclose(freqs, _FREQS, rtol=1e-15)
     np.testing.assert_array_equal(h, _H)
+
+
+# --- stability thresholds found from a coarse speed grid ---------------------------------------
+
+def _state_roots(model, speed):
+    """Every root of the state matrix at ``speed`` [rad/s], scipy's eigenvalues (built here)."""
+    import scipy.linalg
+
+    M, C, G, K = model.matrices(speed)
+    n = len(M)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)]])
+    return scipy.linalg.eigvals(A)
+
+
+@pytest.mark.parametrize("grid_rpm", [[0.0, 5e4, 1e5], [0.0, 1e5, 2e5, 1e6], [0.0, 5e4]])
+def test_a_threshold_from_a_coarse_grid_is_where_the_largest_real_part_crosses_zero(grid_rpm):
+    """``stability unstable_cross_coupled.toml --speeds 0:1e5:3`` said "mode 5 loses stability at
+    39990 rpm ... unstable from 39990 rpm" (``0:1e6:11``: 78069 rpm): the mode followed from one
+    grid speed to the next falls from 11 to 2 Hz, the interpolated guess moved to another root
+    and Brent's method ended on that jump, where the largest real part was +0.72 1/s. The
+    machine is unstable from 10886 rpm (the fine grid's answer). Checked here against the zero
+    of the largest real part of scipy's roots of the state matrix, and the root named at it."""
+    import scipy.optimize
+
+    import rotordyn_modal as rdm
+
+    model = rdm.load_model(ROOT / "examples" / "unstable_cross_coupled.toml")
+    largest = lambda speed: _state_roots(model, speed).real.max()        # noqa: E731
+    rad = np.pi / 30
+    expected = scipy.optimize.brentq(largest, 1.0 * rad, 5e4 * rad, xtol=1e-12)
+    assert largest(1.0 * rad) < 0 < largest(2e4 * rad) and largest(4e4 * rad) > 0    # one crossing, no island
+    result = rdm.stability(model, np.array(grid_rpm) * rad)
+    assert len(result.thresholds) == 1 and result.threshold_onsets[0]
+    np.testing.assert_allclose(result.thresholds[0], expected, rtol=1e-9)
+    roots = _state_roots(model, expected)
+    crossing = roots[np.argmax(roots.real)]
+    np.testing.assert_allclose(result.threshold_frequencies_hz[0], abs(crossing.imag) / (2 * np.pi), rtol=1e-6)

@@ -209,3 +209,25 @@ def test_a_threshold_from_a_coarse_grid_is_where_the_largest_real_part_crosses_z
     roots = _state_roots(model, expected)
     crossing = roots[np.argmax(roots.real)]
     np.testing.assert_allclose(result.threshold_frequencies_hz[0], abs(crossing.imag) / (2 * np.pi), rtol=1e-6)
+
+
+def test_a_loop_of_links_where_the_checkpoint_folder_goes_is_named_a_loop(tmp_path):
+    """A link in a loop was said to lead to "loopA, which does not exist" (loopA exists: a link)."""
+    from rotordyn_modal.errors import OutputError
+    from rotordyn_modal.study.execution import _check_folder
+
+    folder, other = tmp_path / "r.nc.partial", tmp_path / "loopA"
+    folder.symlink_to(other)
+    other.symlink_to(folder)
+    assert os.path.lexists(other)
+    with pytest.raises(OutputError, match="loop of links") as refused:
+        _check_folder(folder)
+    assert "does not exist" not in str(refused.value)
+
+
+def test_a_model_file_given_as_the_study_file_is_named_a_model_file(tmp_path):
+    """``study m.toml --spec m.toml`` said "<top level> spin_axis = [1.0, 0.0, 0.0]: expected one of
+    the keys seed, samples, ... (unknown key)", as if the study file had a typo."""
+    code, err = run_quietly(["study", str(EXAMPLE), "--spec", str(EXAMPLE), "--out", str(tmp_path / "r.nc")])
+    line = _one_line(code, err)
+    assert "a model file" in line and "--spec" in line and "unknown key" not in line, line

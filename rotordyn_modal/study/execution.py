@@ -408,7 +408,8 @@ def _check_folder(folder: Path) -> None:
         raise OutputError(f"{folder}: a file is where the study keeps its checkpoint folder; move or "
                           "delete it (or give another --out)")
     if folder.is_symlink() and not folder.exists():
-        raise OutputError(f"{folder}: a symbolic link to {os.readlink(folder)}, which does not exist, is where "
+        raise OutputError(f"{folder}: a symbolic link to {os.readlink(folder)}, which leads to no folder (a missing "
+                          "target or a loop of links), is where "
                           "the study keeps its checkpoint folder; remove the link or create its folder "
                           "(or give another --out)")
     if folder.parent.exists() and not folder.parent.is_dir():

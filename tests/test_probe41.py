@@ -231,3 +231,32 @@ def test_a_model_file_given_as_the_study_file_is_named_a_model_file(tmp_path):
     code, err = run_quietly(["study", str(EXAMPLE), "--spec", str(EXAMPLE), "--out", str(tmp_path / "r.nc")])
     line = _one_line(code, err)
     assert "a model file" in line and "--spec" in line and "unknown key" not in line, line
+
+
+def test_a_uff_frf_of_even_spacing_and_no_step_is_refused_naming_the_step(tmp_path):
+    """Record 7 with even spacing and an increment of 0 puts every line at one frequency; it was
+    refused as "given 10 times at 5 Hz ... (a duplicated channel?)", which sends the user looking
+    for a channel twice in the file."""
+    from rotordyn_modal.errors import InputError
+    from rotordyn_modal.io.measured import read_measured
+    import rotordyn_modal as rdm
+
+    model = rdm.load_model(EXAMPLE_RUBBER)
+    good = tmp_path / "good.uff"
+    code, err = run_quietly(["frf", str(EXAMPLE_RUBBER), "--speed", "0", "--freqs", "5:20:4", "--sensor", "acc-top-z",
+                             "--excitation", "hammer-z", "--out", str(good)])
+    assert code == 0, err
+    lines = good.read_text().splitlines(keepends=True)
+    record7 = next(i for i, line in enumerate(lines)          # ordinate type, count, even spacing, start, step, z
+                   if len(line.split()) == 6 and line.split()[1:3] == [str(len(_FREQS)), "1"])
+    fields = lines[record7].split()
+    assert float(fields[4]) == 5.0                                   # the step, E13.5
+    line, step = lines[record7], f"{float(fields[4]):13.5E}"
+    at = line.index(step, 10 + 10 + 10 + 13)                        # the 5th field (start and step are both 5 Hz)
+    lines[record7] = line[:at] + f"{0.0:13.5E}" + line[at + 13:]
+    assert lines[record7].split()[3:] == fields[3:4] + ["0.00000E+00"] + fields[5:]
+    bad = tmp_path / "no_step.uff"
+    bad.write_text("".join(lines))
+    read_measured(good, model)                                       # the file as written reads
+    with pytest.raises(InputError, match=r"increment 0 \(record 7\).*frequency step > 0"):
+        read_measured(bad, model)

@@ -260,3 +260,20 @@ def test_a_uff_frf_of_even_spacing_and_no_step_is_refused_naming_the_step(tmp_pa
     read_measured(good, model)                                       # the file as written reads
     with pytest.raises(InputError, match=r"increment 0 \(record 7\).*frequency step > 0"):
         read_measured(bad, model)
+
+
+@pytest.mark.parametrize("header,factor", [("Speed [r/min]", 1.0), ("Speed [rev/min]", 1.0), ("Speed [rps]", 1 / 60),
+                                           ("Speed [rev/s]", 1 / 60), ("Speed [r/s]", 1 / 60)])
+def test_a_speed_column_in_revolutions_per_minute_or_second_is_converted(tmp_path, header, factor):
+    """'r/min' (the SI brochure's spelling) and revolutions per second were refused: "unit 'r/min'
+    not understood: expected one of rpm, 1/min, rad/s, hz"."""
+    rows = [f"{float(1200.0 * factor)!r},{float(f)!r},acc-top-z,hammer-z,{float(h.real)!r},{float(h.imag)!r}"
+            for f, h in zip(_FREQS, _H)]
+    path = tmp_path / "frf.csv"
+    path.write_text("\n".join([f"{header},frequency_hz,output,input,real,imag", *rows]) + "\n")
+    from rotordyn_modal.io.measured import read_measured
+    import rotordyn_modal as rdm
+
+    (frf,) = read_measured(path, rdm.load_model(EXAMPLE_RUBBER))
+    np.testing.assert_allclose(frf.speed * 30 / np.pi, 1200.0, rtol=1e-14)      # rad/s -> rpm
+    np.testing.assert_array_equal(frf.H[0, 0], _H)

@@ -658,25 +658,28 @@ def _crossing_zero(real_part, speeds, eigenvalues, significant, k, column):
         t = (speed - a) / (b - a)
         return (1 - t) * ends[0] + t * ends[1]
 
+    solved = {}
+
     def f(speed):
-        return real_part(speed, clip=False, near=_guess(speed))
+        solved[speed] = real_part(speed, clip=False, near=_guess(speed))
+        return solved[speed]
 
     fa, fb = f(a), f(b)
     if not (np.sign(fa) == signs[0] and np.sign(fb) == signs[1]):
         return None
     root = _brentq_known(f, a, b, fa, fb)
-    return root if _zero_of_the_largest(real_part, f, root, _guess(root)) else None
+    value = solved[root] if root in solved else f(root)      # Brent's method ends on a speed it solved
+    return root if _on_the_axis(value, _guess(root)) else None
 
 
-def _zero_of_the_largest(real_part, f, speed, guess) -> bool:
-    """Whether ``speed`` [rad/s], where Brent's method ended on ``f`` (the real part of the root
-    nearest ``guess``), is a threshold: that real part is zero there (to 1e-8 of the root's size)
-    and no other root is unstable. On a coarse grid the interpolated guess moves from one root to
+def _on_the_axis(real_part: float, guess) -> bool:
+    """Whether the real part [1/s] where Brent's method ended is a zero (to 1e-8 of the root's
+    size ``|guess|``), not a jump. On a coarse grid the interpolated guess moves from one root to
     another between the grid speeds (``unstable_cross_coupled.toml``, ``--speeds 0:1e5:3``: mode 5
-    falls from 11 to 2 Hz), ``f`` jumps there, and Brent's method ends on the jump: "loses stability
-    at 39990 rpm" where the largest real part was +0.72 1/s, the machine unstable from 10886 rpm."""
-    value, scale = f(speed), 1e-8 * abs(guess)
-    return abs(value) <= scale and real_part(speed) <= max(value, 0.0) + scale
+    falls from 11 to 2 Hz), the real part of the root nearest it jumps there, and Brent's method
+    ends on the jump: "loses stability at 39990 rpm" where that real part was +0.72 1/s, the
+    machine unstable from 10886 rpm. ``stability`` then takes the zero of the largest real part."""
+    return abs(real_part) <= 1e-8 * abs(guess)
 
 
 def _last_stable(largest, start, step):

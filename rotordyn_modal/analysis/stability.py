@@ -462,7 +462,7 @@ class _LowestRoots:
         values, shapes = self.at(speed)
         if not np.isfinite(values).any():
             return float("nan"), "none", 0
-        nearest = int(np.nanargmin(np.abs(values - guess)))
+        nearest = _crossing_index(values, guess)
         ratio = self.stack.whirl_ratios(shapes[None, nearest:nearest + 1], np.zeros(1, int), np.array([speed]))
         ratio = np.where(is_oscillating(values[nearest]), ratio.reshape(1), 0.0)
         noise = _lowest_whirl_round_off(self.stack, np.array([speed]), values[None], self.refined)    # as the sweep's labels
@@ -490,11 +490,29 @@ def _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes, roo
             "threshold_whirl": np.array(whirl, dtype=str), "threshold_modes_at_speed": np.array(numbers, dtype=int)}
 
 
+#: a root whose real part is within this fraction of its size is on the imaginary axis at a threshold
+_ON_THE_AXIS = 1e-6
+
+
+def _crossing_index(values, guess) -> int:
+    """The index of the root of ``values`` (k,) complex [1/s], solved at a threshold, that crosses
+    there: of the roots on the imaginary axis (real part within 1e-6 of their size; a zero root,
+    rigid-body, is none) the one nearest ``guess``, else the root nearest ``guess``. The guess
+    alone (the tracked mode interpolated between grid speeds) named another root on a coarse grid:
+    ``unstable_cross_coupled.toml --speeds 0:1e5:3`` said "10.054 Hz; mode 4" for the 6.3662 Hz
+    root (mode 2) that crosses at 10886 rpm."""
+    values = np.asarray(values)
+    finite = np.isfinite(values)
+    on_axis = finite & (values != 0) & (np.abs(values.real) <= _ON_THE_AXIS * np.abs(values))
+    pool = on_axis if on_axis.any() else finite
+    return int(np.argmin(np.where(pool, np.abs(values - guess), np.inf)))
+
+
 def _modal_root_at(model, speed, guess):
     """Frequency [Hz], whirl label and ``modes --speed`` number (0: not a mode) of the root of
     :func:`.modal.modal` at ``speed`` [rad/s] nearest ``guess``."""
     roots = modal(model, speed)
-    nearest = int(np.argmin(np.abs(roots.eigenvalues - guess)))
+    nearest = _crossing_index(roots.eigenvalues, guess)
     # modes' own numbering: its modes in its order
     number = int(roots.oscillatory[:nearest + 1].sum()) if roots.oscillatory[nearest] else 0
     return float(roots.frequencies_hz[nearest]), str(roots.whirl[nearest]), number
@@ -636,14 +654,32 @@ def _crossing_zero(real_part, speeds, eigenvalues, significant, k, column):
         return None
     a, b = speeds[k], speeds[k + 1]
 
-    def f(speed):
+    def _guess(speed):
         t = (speed - a) / (b - a)
-        return real_part(speed, clip=False, near=(1 - t) * ends[0] + t * ends[1])
+        return (1 - t) * ends[0] + t * ends[1]
+
+    solved = {}
+
+    def f(speed):
+        solved[speed] = real_part(speed, clip=False, near=_guess(speed))
+        return solved[speed]
 
     fa, fb = f(a), f(b)
     if not (np.sign(fa) == signs[0] and np.sign(fb) == signs[1]):
         return None
-    return _brentq_known(f, a, b, fa, fb)
+    root = _brentq_known(f, a, b, fa, fb)
+    value = solved[root] if root in solved else f(root)      # Brent's method ends on a speed it solved
+    return root if _on_the_axis(value, _guess(root)) else None
+
+
+def _on_the_axis(real_part: float, guess) -> bool:
+    """Whether the real part [1/s] where Brent's method ended is a zero (to 1e-8 of the root's
+    size ``|guess|``), not a jump. On a coarse grid the interpolated guess moves from one root to
+    another between the grid speeds (``unstable_cross_coupled.toml``, ``--speeds 0:1e5:3``: mode 5
+    falls from 11 to 2 Hz), the real part of the root nearest it jumps there, and Brent's method
+    ends on the jump: "loses stability at 39990 rpm" where that real part was +0.72 1/s, the
+    machine unstable from 10886 rpm. ``stability`` then takes the zero of the largest real part."""
+    return abs(real_part) <= 1e-8 * abs(guess)
 
 
 def _last_stable(largest, start, step):

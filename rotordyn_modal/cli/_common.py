@@ -15,6 +15,7 @@ from .._limits import count_problem
 from ..errors import InputError
 from ..io import atomic_write, check_not_input, load_model
 from ..io.atomic import after_commit, check_writable
+from ..io.limits import shown_name, unreachable_name
 from ..model._table import LARGEST, SMALLEST_POSITIVE
 from ..units import SPEED_UNITS
 from ..units import speed_to_rad_s as to_rad_s
@@ -623,6 +624,10 @@ def check_files(args) -> None:
     for option, path in inputs + outputs:
         if "\0" in str(path):
             raise InputError(f"{option} {str(path)!r}: a file name cannot hold a NUL character")
+    for option, path in inputs:     # every reader alike (the mapping's said "Not a directory", a long name exit 1)
+        problem = unreachable_name(path)
+        if problem:
+            raise InputError(f"{option} {shown_name(path)}: the name {problem}")
     for i, (option, path) in enumerate(outputs):
         for source_option, source in inputs:
             if same_file(path, source):

@@ -182,6 +182,11 @@ def check_writable(path) -> None:
     """
     if not os.fspath(path):     # Path('') is '.': "cannot write : it is a folder"
         raise OutputError("'' (an empty file name): expected the name of the file to write")
+    from .limits import shown_name, unreachable_name
+
+    problem = unreachable_name(path)
+    if problem and not str(path).endswith((os.sep, "/", "/.")):   # those: "a name ending in '/'" below
+        raise OutputError(f"cannot write {shown_name(path)}: its name {problem}")
     shown, path = path, real_target(path)
     if Path(shown).is_symlink():
         try:

@@ -77,7 +77,10 @@ def read_csv_table(data: bytes, path, what: str, text_only: bool = False, skip_b
     header = lines[start] if start < len(lines) else ""
     separator = declared.group(1) if declared else max(_SEPARATORS, key=lambda s: (header.count(s), s == ","))
     body = "".join(lines[start + 1:start + 200])
-    decimal = "," if separator != "," and re.search(r'(^|[;\t])\s*"?[-+]?\d+,\d+"?\s*([;\t]|$)', body, re.M) else "."
+    # a decimal comma: '1,5', and '7,52E-07' as a spreadsheet in a German locale writes an FRF's
+    # small values (every value of a receptance; without the exponent the file was read as '.')
+    decimal = "," if separator != "," and re.search(r'(^|[;\t])\s*"?[-+]?\d+,\d+(?:[eE][-+]?\d+)?"?\s*([;\t]|$)',
+                                                    body, re.M) else "."
     with _collector_paused():
         table = _fast_table(text, separator, start, skip_blank_lines)   # pandas' C parser: a plain table
         if table is None:       # the csv module reads what it does not, and names what is wrong

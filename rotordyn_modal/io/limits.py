@@ -10,6 +10,7 @@ CSV, TDMS) are allowed much more. Each limit can be raised by an environment var
 from __future__ import annotations
 
 import contextlib
+import errno
 import functools
 import math
 import os
@@ -23,7 +24,7 @@ from ..errors import InputError
 
 __all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "PIPE_WAIT_S", "check_size", "limit_bytes", "read_limited",
            "input_path", "refuse_unsized", "refuse_compressed", "unreadable", "is_fifo", "pipe_copied", "reads_pipes",
-           "named_as"]
+           "named_as", "unreachable_name", "shown_name"]
 
 #: default limit of model and study files [MB]; environment: ROTORDYN_MODAL_MAX_MODEL_MB
 MODEL_FILE_MB = 10
@@ -39,12 +40,60 @@ _LIMITS = {"model": ("ROTORDYN_MODAL_MAX_MODEL_MB", MODEL_FILE_MB),
 def input_path(path, what: str) -> Path:
     """``path`` as a :class:`~pathlib.Path` when it is a file's name (``str`` or path-like), else
     :class:`InputError` naming ``what`` (``None``, a number, bytes or a dict raised ``TypeError``
-    in ``open``; ``''`` read the current folder, said to be a folder named '.')."""
+    in ``open``; ``''`` read the current folder, said to be a folder named '.'). A name that can
+    lead to no file (:func:`unreachable_name`: too long, or a file's name followed by '/', which
+    ``Path`` dropped, so that ``m.toml/`` read ``m.toml``) is refused naming it."""
     if isinstance(path, (str, os.PathLike)) and not isinstance(path, bytes):
         text = os.fspath(path)
         if isinstance(text, str) and text.strip():
+            problem = unreachable_name(text)
+            if problem:
+                raise InputError(f"{shown_name(text)}: the {what}'s name {problem}")
             return Path(text)
     raise InputError(f"{what} = {path!r}: expected the name of a file (a str or path-like, not empty)")
+
+
+#: names longer than this are shown by their start and end in messages [characters]
+_SHOWN_NAME = 80
+
+
+def shown_name(text) -> str:
+    """``text`` (a file's name) for a message: whole up to 80 characters, else its first 40 and
+    last 20 characters around '...' with its length (a 300-character name filled the line)."""
+    text = os.fspath(text)
+    if len(text) <= _SHOWN_NAME:
+        return text
+    return f"{text[:40]}...{text[-20:]} ({len(text)} characters)"
+
+
+def unreachable_name(text) -> str | None:
+    """Why the name ``text`` can lead to no file (the end of a message: "name ..."), or None.
+
+    * too long for the file system (``ENAMETOOLONG``: one file or folder name over 255 bytes, a
+      path over 4096), which ``pathlib`` raised as an ``OSError`` (exit 1);
+    * a file followed by '/' or '/.' (``ENOTDIR``), which names a folder: ``Path`` drops the '/',
+      so the file itself was read; or a path through a file as if it were a folder.
+
+    Any other state (missing, a loop of links, no permission) is the reader's or writer's to say.
+    """
+    text = os.fspath(text)
+    try:
+        os.stat(text)
+    except OSError as error:
+        if error.errno == errno.ENAMETOOLONG:
+            longest = max((len(os.fsencode(part)) for part in text.split(os.sep)), default=0)
+            return (f"is too long for the file system: {len(os.fsencode(text))} bytes, its longest file or folder "
+                    f"name {longest} bytes (at most 255 bytes a name and 4096 a path): give a shorter name")
+        if error.errno == errno.ENOTDIR:
+            if Path(text).is_file():    # 'm.toml/', 'm.toml/.': Path drops the ending
+                return (f"ends in '/', which names a folder, but {shown_name(Path(text))} is a file: give the "
+                        "file's name without the '/'")
+            file = next((p for p in Path(text).parents if p.is_file()), None)
+            if file is not None:
+                return f"leads through {shown_name(file)}, a file, not a folder"
+    except ValueError:          # a NUL character: the callers refuse it
+        return None
+    return None
 
 
 def limit_bytes(kind: str) -> tuple[int, str]:

@@ -377,8 +377,9 @@ _ALIASES = {"frequency": "frequency_hz", "freq": "frequency_hz", "freq_hz": "fre
             "speed": "speed_rpm", "rpm": "speed_rpm", "phase": "phase_deg", "mag": "magnitude",
             "imaginary": "imag", "re": "real", "im": "imag"}
 #: units a header may give its column, and the factor to the column's own unit
-_HEADER_UNITS = {"frequency_hz": {"hz": 1.0, "khz": 1e3},
-                 "speed_rpm": {"rpm": 1.0, "1/min": 1.0, "rad/s": 30.0 / np.pi, "hz": 60.0},
+_HEADER_UNITS = {"frequency_hz": {"hz": 1.0, "khz": 1e3, "rad/s": 0.5 / np.pi, "cpm": 1.0 / 60.0, "1/min": 1.0 / 60.0},
+                 "speed_rpm": {"rpm": 1.0, "1/min": 1.0, "r/min": 1.0, "rev/min": 1.0, "rad/s": 30.0 / np.pi, "hz": 60.0,
+                               "rps": 60.0, "r/s": 60.0, "rev/s": 60.0},
                  "phase_deg": {"deg": 1.0, "°": 1.0, "degree": 1.0, "degrees": 1.0, "rad": 180.0 / np.pi}}
 _VALUE_COLUMNS = ("real", "imag", "magnitude")
 #: the layout's columns, as messages name them

@@ -952,6 +952,10 @@ def _check_set(s, path):
         bad = int(np.flatnonzero(~np.isfinite(data))[0])
         raise InputError(f"{where}: value {bad + 1} of {count} (at {float(np.real(s['x'][bad])):.6g} Hz) is "
                          f"{data[bad]}, and {int(np.sum(~np.isfinite(data)))} in all: expected finite numbers")
+    if int(s.get("abscissa_spacing", 0)) == 1 and count > 1 and not float(s.get("abscissa_inc", 1.0)) > 0:
+        # every line at one frequency: was "given 10 times at 5 Hz ... (a duplicated channel?)"
+        raise InputError(f"{where}: even abscissa spacing with the increment {float(s.get('abscissa_inc')):g} "
+                         f"(record 7) for {count} values: expected a frequency step > 0")
     kind = int(s.get("ord_data_type", 5))
     if kind in _REAL_ORDINATES:
         # a magnitude-only export was read as an FRF of phase 0 everywhere (drawn, fitted)

@@ -31,6 +31,8 @@ DISTRIBUTIONS = {
     "lognormal": (("median", "log_std"), ("mean", "std")),
     "uniform": (("low", "high"),),
 }
+#: top-level keys of a model file (docs/model-file.md) that no study file has
+_MODEL_KEYS = ("spin_axis", "stator", "rotors", "suspensions", "bearings", "transmissions", "materials")
 _TOP_KEYS = ("seed", "samples", "design", "chunk_size", "parameters", "correlation", "analyses",
              "operating_band_rpm", "name")
 #: largest seed or chunk size: the results file (netCDF 3) stores them as 32-bit integers
@@ -166,6 +168,11 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
     """
     if not isinstance(data, dict):
         raise StudyError(source, "<study>", data, "a table")
+    model_keys = [key for key in _MODEL_KEYS if key in data]
+    if model_keys and "parameters" not in data:     # 'study m.toml --spec m.toml': was "spin_axis ... unknown key"
+        raise StudyError(source, "<file>", f"a model file (its {', '.join(model_keys)})",
+                         "a study file ([[parameters]], [analyses.*]; docs/study-file.md): the model is the "
+                         "command's first argument, the study file --spec")
     _unknown(data, _TOP_KEYS, source, "<top level>")
     seed, design, chunk = _run_options(data, source)
     items = data.get("parameters")

@@ -408,11 +408,24 @@ def _check_folder(folder: Path) -> None:
         raise OutputError(f"{folder}: a file is where the study keeps its checkpoint folder; move or "
                           "delete it (or give another --out)")
     if folder.is_symlink() and not folder.exists():
-        raise OutputError(f"{folder}: a symbolic link to {os.readlink(folder)}, which does not exist, is where "
+        raise OutputError(f"{folder}: a symbolic link to {os.readlink(folder)}, which {_dangling(folder)}, is where "
                           "the study keeps its checkpoint folder; remove the link or create its folder "
                           "(or give another --out)")
     if folder.parent.exists() and not folder.parent.is_dir():
         raise OutputError(f"{folder}: {folder.parent} is not a folder")
+
+
+def _dangling(link: Path) -> str:
+    """What a link that leads to no file leads to: "does not exist", or a loop of links (its
+    target exists, a link itself: it was said not to exist)."""
+    import errno
+
+    try:
+        os.stat(link)
+    except OSError as error:
+        if error.errno == errno.ELOOP:
+            return "leads back to it (a loop of links)"
+    return "does not exist"
 
 
 def _digest(payload: bytes) -> dict:

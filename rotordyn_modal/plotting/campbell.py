@@ -82,6 +82,13 @@ _ALONG_REACH_POINTS, _ALONG_DEGREES, _ALONG_POINTS, _ALONG_SHARE = 4.0, 15.0, 8.
 #: 1 to 2 points beside the 2X line), one 10 degrees off opens away from it (gear_machine's '561'
 #: at 0:12000:241, straight up between two order lines, 7 points off the 1X motor line at its end)
 _ALONG_ORDER_DEGREES = 6.0
+#: a leader line keeps at least this many points (its centre line to the box) off every other
+#: label's text box on the axes (critical-speed, order-line and mode labels, the note): nearer,
+#: it reads as touching the text (unstable_cross_coupled's '11.8' Hz ran 0.3 points over the
+#: '10.9' label's top). A point leaves about 0.75 point of white beside the 0.5-point line, 1.5
+#: pixels at 150 dpi and 1 at 100 dpi, outside the box, whose top is near the digits' tops;
+#: half a point left about one pixel at 150 dpi, which the eye closes
+_LEADER_GAP_POINTS = 1.0
 
 
 #: a right-edge label reaching nearer the figure's edge than this [pixels] has the figure laid
@@ -849,7 +856,7 @@ class _CampbellLabels:
         self.renderer, self.mode_map, self.order_map = renderer, None, None
         self.recorded = []          # the first run's settings, in order (:meth:`_set`)
         placed = self._place_all(renderer)
-        first, self.recorded = (self.recorded, self.leader_lines, self.shared, placed), None
+        first, self.recorded = (self.recorded, self.leader_lines, self.drawn_leaders, self.shared, placed), None
         unlabelled = self._unlabelled_critical() if self.critical_texts else []
         if self._orders_near(unlabelled, renderer):
             # an order line's label took the only room beside a critical speed's circle
@@ -878,6 +885,7 @@ class _CampbellLabels:
         labels (and keys) kept clear of the boxes ``reserved`` (axes fraction). Returns the
         boxes taken (axes fraction)."""
         self.leader_lines = []          # (start, end) of the leader lines drawn inside the axes
+        self.drawn_leaders = []         # (start, end) of those as drawn (short of their circles)
         placed = list(reserved)
         # the right-edge labels first: the order lines' keys above the axes keep clear of them
         ends = self._reset_mode_texts()
@@ -898,7 +906,7 @@ class _CampbellLabels:
             self.recorded.append((artist, properties))
         set_if_changed(artist, **properties)
 
-    def _replayed(self, recorded, leader_lines, shared, placed):
+    def _replayed(self, recorded, leader_lines, drawn_leaders, shared, placed):
         """The labels as a first :meth:`_place_all` (no box reserved) left them, its settings
         ``recorded`` made again in their order, and the boxes it took (``placed``): that run
         again would make the same settings, since it depends on nothing a run sets but what it
@@ -906,7 +914,7 @@ class _CampbellLabels:
         they would. (compressor_rotor's retry ran :meth:`_place_all` a third time for this.)"""
         for artist, properties in recorded:
             set_if_changed(artist, **properties)
-        self.leader_lines, self.shared = leader_lines, shared
+        self.leader_lines, self.drawn_leaders, self.shared = leader_lines, drawn_leaders, shared
         return placed
 
     def _orders_shown(self):
@@ -1128,7 +1136,7 @@ class _CampbellLabels:
             self._set(text, position=(box[0], box[1] + h / 2), va="center", ha="left", clip_on=True,
                            color=self._colour(self.modes[i], ends[i][2]), visible=True)
 
-    def _label_box(self, anchor, near, gap, placed, markers, clear, own_nearest=False, wide=False):
+    def _label_box(self, anchor, near, gap, placed, markers, clear, own_nearest=False, wide=False, group=()):
         """A label's box (axes fraction) and its leader line ((start, end) or None), or (None, None).
 
         The first of the ``near`` boxes (touching the anchor) that lies inside the axes, clear
@@ -1139,7 +1147,8 @@ class _CampbellLabels:
         leader crossing no label nor any of the ``markers`` and ending ``clear`` (u, v) short of
         the anchor. ``own_nearest`` (critical speeds): every box, and every leader's end, lies
         :data:`_NEAREST_OWN` times as far from the centre of each of the ``markers`` as from the
-        anchor (:meth:`_nearest_own`).
+        anchor (:meth:`_nearest_own`). ``group``: the centres (axes fraction) of the circles one
+        label names (the anchor's first), the leader drawn to them (:meth:`_group_leader`).
         """
         u, v = anchor
         keep = (u - ANCHOR_POINTS * self.points * self.to_u, v - ANCHOR_POINTS * self.points * self.to_v,
@@ -1175,6 +1184,8 @@ class _CampbellLabels:
         grid, far = around()
         others = list(placed)
         others_array = np.asarray(others, float).reshape(-1, 4)      # (taken once: the checks run per box)
+        # the labels placed, each widened by the leader's gap (_LEADER_GAP_POINTS) on every side
+        spaced = others_array + self._leader_gap() * np.array([-1.0, -1.0, 1.0, 1.0])
 
         def leader_clear(boxes, drawn=True):
             # each of the boxes (n, 4): its leader (from the box's point nearest the anchor) nor
@@ -1190,6 +1201,10 @@ class _CampbellLabels:
             to_anchor = np.column_stack([starts, np.broadcast_to(np.asarray(anchor, float), starts.shape)])
             if len(others_array):
                 ok &= ~crossing_pairs(to_anchor, others_array).any(axis=1)
+                # nor as drawn within the gap of another label's text (a leader too short to draw
+                # is none: the box touches its circle)
+                shown = ~self._too_short_each(starts, anchor, clear_px)
+                ok[shown] &= ~crossing_pairs(np.column_stack([starts, short])[shown], spaced).any(axis=1)
             ok &= ~_segments_crossed(starts, anchor, self._leader_array())
             if len(markers_array):
                 ok &= ~crossing_pairs(np.column_stack([starts, short]) if drawn else to_anchor,
@@ -1284,7 +1299,9 @@ class _CampbellLabels:
             return None, None
         start = nearest_in(box, anchor)
         self.leader_lines.append((start, anchor))
-        return box, (start, self._short_of(start, anchor, clear_px))
+        if len(group) > 1:
+            return box, self._group_leader(start, group, clear)
+        return box, self._drawn_leader(start, anchor, clear_px)
 
     def _wider_box(self, anchor, size, clear_px, tried, placed, gap, frame, markers, uncrossed):
         """A critical speed's label box (axes fraction) farther to the side than :meth:`_label_box`'s
@@ -1368,6 +1385,35 @@ class _CampbellLabels:
                                           np.asarray(self.leader_lines, float).reshape(-1, 4))
         return cached[2]
 
+    def _leader_gap(self):
+        """:data:`_LEADER_GAP_POINTS` along u and v (axes fraction): (gap_u, gap_v, gap_u, gap_v)."""
+        gap = _LEADER_GAP_POINTS * self.points
+        return np.array([gap * self.to_u, gap * self.to_v] * 2)
+
+    def _too_short_each(self, starts, centre, clear_px):
+        """Whether each of ``starts`` ((n, 2), axes fraction) lies within ``clear_px`` [pixels] of
+        ``centre`` (axes fraction): a leader from there, stopped ``clear_px`` short of the centre,
+        would run back from its start into its own label (fan_on_bearings' '8845', 2.6 points
+        above its circle, drew 1.4 points of leader inside its own text). Mask (n,)."""
+        starts = np.asarray(starts, float).reshape(-1, 2)
+        return np.hypot((starts[:, 0] - centre[0]) / self.to_u, (starts[:, 1] - centre[1]) / self.to_v) <= clear_px
+
+    def _drawn_leader(self, start, centre, clear_px):
+        """The leader line as drawn from ``start`` towards ``centre`` (axes fraction), stopped
+        ``clear_px`` [pixels] short of it: (start, end), or None where it would run back
+        (:meth:`_too_short_each`)."""
+        if self._too_short_each([start], centre, clear_px)[0]:
+            return None
+        return tuple(start), self._short_of(start, centre, clear_px)
+
+    def _drawn_array(self):
+        """The leader lines as drawn so far (:attr:`drawn_leaders`) as an (n, 4) array."""
+        cached = self.__dict__.get("drawn_array")
+        if cached is None or cached[0] is not self.drawn_leaders or cached[1] != len(self.drawn_leaders):
+            cached = self.drawn_array = (self.drawn_leaders, len(self.drawn_leaders),
+                                         np.asarray(self.drawn_leaders, float).reshape(-1, 4))
+        return cached[2]
+
     def _short_of(self, start, centre, clear_px):
         """The end (axes fraction) of a leader line from ``start`` to ``centre`` (axes fraction)
         stopped ``clear_px`` [pixels] short of ``centre`` (outside its circle)."""
@@ -1434,9 +1480,12 @@ class _CampbellLabels:
         return segments, (frame.x0, frame.y0), (frame.width, frame.height), segment_bounds(segments)
 
     def _show_leader(self, line, leader, colour):
+        """Draw ``line`` along ``leader`` ((start, end), axes fraction; kept in :attr:`drawn_leaders`),
+        or hide it (None)."""
         if leader is None:
             self._set(line, visible=False)
             return
+        self.drawn_leaders.append(leader)
         (x0, y0), (x1, y1) = leader
         self._set(line, xdata=[x0, x1], ydata=[y0, y1], color=colour, visible=True)
 
@@ -1491,9 +1540,7 @@ class _CampbellLabels:
             mine = {(a - radius_u, b - radius_v, a + radius_u, b + radius_v) for a, b in own}
             box, leader = self._label_box((u, v), [(a, b, a + w, b + h) for a, b in corners], gap, placed,
                                           [m for m in markers if m not in mine], (radius_u, radius_v),
-                                          own_nearest=True, wide=wide)
-            if leader is not None and len(own) > 1:
-                leader = self._group_leader(leader[0], own, (radius_u, radius_v))
+                                          own_nearest=True, wide=wide, group=own)
         self._show_leader(self.critical_leaders[j], leader, "k")
         if box is None:
             self._set(text, visible=False)
@@ -1505,12 +1552,13 @@ class _CampbellLabels:
         """The leader from ``start`` to a group's circles ``own`` (axes fraction): to the edge of the
         circle farthest along its way, so that it ends beside every circle of the group (ending at
         the first circle's edge on the side away from the second, the fan's '3898/3943', circles
-        3.6 pixels apart, pointed at 3898 only)."""
+        3.6 pixels apart, pointed at 3898 only); None where ``start`` lies inside that circle's
+        clearance (:meth:`_drawn_leader`)."""
         px = np.array([1 / self.to_u, 1 / self.to_v])
         start_px, centres = np.asarray(start) * px, np.asarray(own) * px
         way = centres.mean(axis=0) - start_px
         target = own[int(np.argmax(centres @ way))]
-        return tuple(start), self._short_of(start, target, max(clear[0] / self.to_u, clear[1] / self.to_v))
+        return self._drawn_leader(start, target, max(clear[0] / self.to_u, clear[1] / self.to_v))
 
     def _in_view(self):
         """Indices of the critical speeds whose markers lie inside the axes."""
@@ -1600,6 +1648,11 @@ class _CampbellLabels:
         drawn_leaders = self._leader_array()
         if len(drawn_leaders):
             ok &= ~crossing_pairs(drawn_leaders, boxes).any(axis=0)
+            # nor within the leader's gap of one as drawn (_LEADER_GAP_POINTS)
+            shown = self._drawn_array()
+            if len(shown):
+                spaced = np.asarray(boxes, float).reshape(-1, 4) + self._leader_gap() * np.array([-1.0, -1.0, 1.0, 1.0])
+                ok &= ~crossing_pairs(shown, spaced).any(axis=0)
         return ok
 
     def _name_mentioned(self):

@@ -1012,7 +1012,7 @@ class _CampbellLabels:
         wider = (_TITLE_GAP_POINTS - _PAD_POINTS) * self.points
         obstacles = [(b.x0 - wider * title, b.y0, b.x1 + wider * title, b.y1) for b, title in obstacles]
         bottom = frame.y1 + 2 * gap
-        shown = 0
+        shown, keyed = 0, []            # keys shown; their leaders' start, end, box and colour
         right_of = max(frame.x0, fig.bbox.x0 + gap)
         for members in sorted(unnamed, key=lambda group: group[0].u):
             text = self.key_texts[shown]
@@ -1036,16 +1036,32 @@ class _CampbellLabels:
             obstacles.append(box)
             right_of = box[2] + gap
             start = min(max(middle, box[0]), box[2])
-            end = min(exits, key=lambda e: abs(e - start))
-            self._set(self.key_leaders[shown], xdata=[(end - frame.x0) / frame.width, (start - frame.x0) / frame.width],
-                           ydata=[1.0, (bottom - frame.y0) / frame.height], color=members[0].color, visible=True)
+            keyed.append((start, min(exits, key=lambda e: abs(e - start)), box, members[0].color))
             self._set(text, text=words, color=members[0].color, position=((box[0] - frame.x0) / frame.width,
                                                                                (bottom - frame.y0) / frame.height),
                            rotation=0.0, fontsize=font_points(_FONT), visible=True)
             shown += 1
+        for leader, (start, end, box, colour) in zip(self.key_leaders, keyed):
+            x, y = self._key_leader(start, end, bottom, frame.y1, [o for o in obstacles if o is not box], gap)
+            self._set(leader, xdata=[(a - frame.x0) / frame.width for a in x],
+                      ydata=[(b - frame.y0) / frame.height for b in y], color=colour, visible=True)
         for text, leader in zip(self.key_texts[shown:], self.key_leaders[shown:]):
             self._set(text, visible=False)
             self._set(leader, visible=False)
+
+    def _key_leader(self, start, end, bottom, top, others, drop):
+        """A key's leader [pixels]: (x, y) of its points, from its line's exit ``end`` on the axes'
+        top edge ``top`` to ``start`` on the key's bottom edge ``bottom``. Straight, unless that
+        line passes within :data:`_LEADER_GAP_POINTS` of one of the boxes ``others`` (the other
+        keys, the title, the tick and mode labels: the 10-rotor chain's 'r006-r007' key, right of
+        the 'r004-r005' key above its exit, ran its leader 0.2 points under that key's text): then
+        straight down ``drop`` [pixels] from the key first and on to the exit from there, below
+        the row of keys."""
+        spacing = _LEADER_GAP_POINTS * self.points * np.array([-1.0, -1.0, 1.0, 1.0])
+        if not others or not crossing_pairs([(end, top, start, bottom)],
+                                             np.asarray(others, float).reshape(-1, 4) + spacing).any():
+            return [end, start], [top, bottom]
+        return [end, start, start], [top, bottom - drop, bottom]
 
     # -- modes ---------------------------------------------------------------------------
     def _reset_mode_texts(self):

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, BoxRows, CurveMap, box_distance, box_distances, boxes_around_array,
-                      column_positions, crossing_pairs, cuts, cuts_each, draw_time_layout,
+                      column_positions, crossing_pairs, cuts, cuts_each, draw_time_layout, LEADER_GAP_POINTS,
                       edge_label_boxes, exits_of_orders, first_free_box, font_points, lay_out_again_when,
                       along_each, nearest_each, nearest_in, operating_band, segment_bounds, set_if_changed, text_size,
                       _drawn_segments, _overlap, _ROW_SPLIT, _segments_crossed, _short_orders, touching_groups)
@@ -83,12 +83,9 @@ _ALONG_REACH_POINTS, _ALONG_DEGREES, _ALONG_POINTS, _ALONG_SHARE = 4.0, 15.0, 8.
 #: at 0:12000:241, straight up between two order lines, 7 points off the 1X motor line at its end)
 _ALONG_ORDER_DEGREES = 6.0
 #: a leader line keeps at least this many points (its centre line to the box) off every other
-#: label's text box on the axes (critical-speed, order-line and mode labels, the note): nearer,
-#: it reads as touching the text (unstable_cross_coupled's '11.8' Hz ran 0.3 points over the
-#: '10.9' label's top). A point leaves about 0.75 point of white beside the 0.5-point line, 1.5
-#: pixels at 150 dpi and 1 at 100 dpi, outside the box, whose top is near the digits' tops;
-#: half a point left about one pixel at 150 dpi, which the eye closes
-_LEADER_GAP_POINTS = 1.0
+#: label's text box on the axes (critical-speed, order-line and mode labels, the keys, the note):
+#: nearer, it reads as touching the text (:data:`~._labels.LEADER_GAP_POINTS` says why one point)
+_LEADER_GAP_POINTS = LEADER_GAP_POINTS
 
 
 #: a right-edge label reaching nearer the figure's edge than this [pixels] has the figure laid

@@ -1216,8 +1216,8 @@ class _CampbellLabels:
                 ok &= ~crossing_pairs(to_anchor, others_array).any(axis=1)
                 # nor as drawn within the gap of another label's text (a leader too short to draw
                 # is none: the box touches its circle)
-                shown = ~self._too_short_each(starts, anchor, clear_px)
-                ok[shown] &= ~crossing_pairs(np.column_stack([starts, short])[shown], spaced).any(axis=1)
+                shown = ok & ~self._too_short_each(starts, anchor, clear_px)     # (the others fail anyway)
+                ok[shown] = ~crossing_pairs(np.column_stack([starts, short])[shown], spaced).any(axis=1)
             ok &= ~_segments_crossed(starts, anchor, self._leader_array())
             if len(markers_array):
                 ok &= ~crossing_pairs(np.column_stack([starts, short]) if drawn else to_anchor,
@@ -1662,10 +1662,10 @@ class _CampbellLabels:
         if len(drawn_leaders):
             ok &= ~crossing_pairs(drawn_leaders, boxes).any(axis=0)
             # nor within the leader's gap of one as drawn (_LEADER_GAP_POINTS)
-            shown = self._drawn_array()
-            if len(shown):
-                spaced = np.asarray(boxes, float).reshape(-1, 4) + self._leader_gap() * np.array([-1.0, -1.0, 1.0, 1.0])
-                ok &= ~crossing_pairs(shown, spaced).any(axis=0)
+            shown, left = self._drawn_array(), np.flatnonzero(ok)       # (the others fail anyway)
+            if len(shown) and len(left):
+                spaced = np.asarray(boxes, float).reshape(-1, 4)[left] + self._leader_gap() * np.array([-1.0, -1.0, 1.0, 1.0])
+                ok[left] = ~crossing_pairs(shown, spaced).any(axis=0)
         return ok
 
     def _name_mentioned(self):

@@ -286,3 +286,34 @@ def assert_each_critical_speed_in_view_is_read(ax, critical, top_rpm, least=20):
         word = f"{speed:.0f}"
         assert word in words or word in re.findall(r"\d+", note), (word, sorted(words), note)
     return labels
+
+
+def segment_box_distance(segment, box) -> float:
+    """Display distance of the segment ``segment`` (x0, y0, x1, y1) from the rectangle ``box``
+    (x0, y0, x1, y1): 0 where it runs through the box, else the least of its ends' distances
+    from the box and the box's corners' distances from the segment (exact for a segment
+    outside a rectangle)."""
+    segment = np.asarray(segment, float).reshape(1, 4)
+    if len(clip_segments(segment, box)):
+        return 0.0
+    x0, y0, x1, y1 = box
+    ends = [np.hypot(max(x0 - x, 0.0, x - x1), max(y0 - y, 0.0, y - y1)) for x, y in segment.reshape(2, 2)]
+    corners = [point_segments_distance(segment, np.array(c, float)) for c in ((x0, y0), (x0, y1), (x1, y0), (x1, y1))]
+    return float(min(ends + corners))
+
+
+def length_inside(segment, box) -> float:
+    """Display length of the part of ``segment`` (x0, y0, x1, y1) inside ``box`` (x0, y0, x1, y1)."""
+    parts = clip_segments(np.asarray(segment, float).reshape(1, 4), box)
+    return float(np.hypot(*(parts[:, 2:] - parts[:, :2]).T).sum()) if len(parts) else 0.0
+
+
+def leader_lines(ax, gids=("critical-leader",)) -> list:
+    """``(line, segments (k, 4) [display pixels])`` of the visible lines of ``ax`` whose gid is one of
+    ``gids`` (a Campbell diagram's leader lines), through their own transforms."""
+    drawn = []
+    for line in ax.get_lines():
+        if line.get_visible() and line.get_gid() in gids and len(line.get_xdata()) > 1:
+            points = line.get_transform().transform(np.column_stack(line.get_data()))
+            drawn.append((line, np.hstack([points[:-1], points[1:]])))
+    return drawn

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, BoxRows, CurveMap, box_distance, box_distances, boxes_around_array,
-                      column_positions, crossing_pairs, cuts, cuts_each, draw_time_layout,
+                      column_positions, crossing_pairs, cuts, cuts_each, draw_time_layout, LEADER_GAP_POINTS,
                       edge_label_boxes, exits_of_orders, first_free_box, font_points, lay_out_again_when,
                       along_each, nearest_each, nearest_in, operating_band, segment_bounds, set_if_changed, text_size,
                       _drawn_segments, _overlap, _ROW_SPLIT, _segments_crossed, _short_orders, touching_groups)
@@ -82,6 +82,10 @@ _ALONG_REACH_POINTS, _ALONG_DEGREES, _ALONG_POINTS, _ALONG_SHARE = 4.0, 15.0, 8.
 #: 1 to 2 points beside the 2X line), one 10 degrees off opens away from it (gear_machine's '561'
 #: at 0:12000:241, straight up between two order lines, 7 points off the 1X motor line at its end)
 _ALONG_ORDER_DEGREES = 6.0
+#: a leader line keeps at least this many points (its centre line to the box) off every other
+#: label's text box on the axes (critical-speed, order-line and mode labels, the keys, the note):
+#: nearer, it reads as touching the text (:data:`~._labels.LEADER_GAP_POINTS` says why one point)
+_LEADER_GAP_POINTS = LEADER_GAP_POINTS
 
 
 #: a right-edge label reaching nearer the figure's edge than this [pixels] has the figure laid
@@ -849,7 +853,7 @@ class _CampbellLabels:
         self.renderer, self.mode_map, self.order_map = renderer, None, None
         self.recorded = []          # the first run's settings, in order (:meth:`_set`)
         placed = self._place_all(renderer)
-        first, self.recorded = (self.recorded, self.leader_lines, self.shared, placed), None
+        first, self.recorded = (self.recorded, self.leader_lines, self.drawn_leaders, self.shared, placed), None
         unlabelled = self._unlabelled_critical() if self.critical_texts else []
         if self._orders_near(unlabelled, renderer):
             # an order line's label took the only room beside a critical speed's circle
@@ -878,6 +882,7 @@ class _CampbellLabels:
         labels (and keys) kept clear of the boxes ``reserved`` (axes fraction). Returns the
         boxes taken (axes fraction)."""
         self.leader_lines = []          # (start, end) of the leader lines drawn inside the axes
+        self.drawn_leaders = []         # (start, end) of those as drawn (short of their circles)
         placed = list(reserved)
         # the right-edge labels first: the order lines' keys above the axes keep clear of them
         ends = self._reset_mode_texts()
@@ -898,7 +903,7 @@ class _CampbellLabels:
             self.recorded.append((artist, properties))
         set_if_changed(artist, **properties)
 
-    def _replayed(self, recorded, leader_lines, shared, placed):
+    def _replayed(self, recorded, leader_lines, drawn_leaders, shared, placed):
         """The labels as a first :meth:`_place_all` (no box reserved) left them, its settings
         ``recorded`` made again in their order, and the boxes it took (``placed``): that run
         again would make the same settings, since it depends on nothing a run sets but what it
@@ -906,7 +911,7 @@ class _CampbellLabels:
         they would. (compressor_rotor's retry ran :meth:`_place_all` a third time for this.)"""
         for artist, properties in recorded:
             set_if_changed(artist, **properties)
-        self.leader_lines, self.shared = leader_lines, shared
+        self.leader_lines, self.drawn_leaders, self.shared = leader_lines, drawn_leaders, shared
         return placed
 
     def _orders_shown(self):
@@ -1004,7 +1009,7 @@ class _CampbellLabels:
         wider = (_TITLE_GAP_POINTS - _PAD_POINTS) * self.points
         obstacles = [(b.x0 - wider * title, b.y0, b.x1 + wider * title, b.y1) for b, title in obstacles]
         bottom = frame.y1 + 2 * gap
-        shown = 0
+        shown, keyed = 0, []            # keys shown; their leaders' start, end, box and colour
         right_of = max(frame.x0, fig.bbox.x0 + gap)
         for members in sorted(unnamed, key=lambda group: group[0].u):
             text = self.key_texts[shown]
@@ -1028,16 +1033,32 @@ class _CampbellLabels:
             obstacles.append(box)
             right_of = box[2] + gap
             start = min(max(middle, box[0]), box[2])
-            end = min(exits, key=lambda e: abs(e - start))
-            self._set(self.key_leaders[shown], xdata=[(end - frame.x0) / frame.width, (start - frame.x0) / frame.width],
-                           ydata=[1.0, (bottom - frame.y0) / frame.height], color=members[0].color, visible=True)
+            keyed.append((start, min(exits, key=lambda e: abs(e - start)), box, members[0].color))
             self._set(text, text=words, color=members[0].color, position=((box[0] - frame.x0) / frame.width,
                                                                                (bottom - frame.y0) / frame.height),
                            rotation=0.0, fontsize=font_points(_FONT), visible=True)
             shown += 1
+        for leader, (start, end, box, colour) in zip(self.key_leaders, keyed):
+            x, y = self._key_leader(start, end, bottom, frame.y1, [o for o in obstacles if o is not box], gap)
+            self._set(leader, xdata=[(a - frame.x0) / frame.width for a in x],
+                      ydata=[(b - frame.y0) / frame.height for b in y], color=colour, visible=True)
         for text, leader in zip(self.key_texts[shown:], self.key_leaders[shown:]):
             self._set(text, visible=False)
             self._set(leader, visible=False)
+
+    def _key_leader(self, start, end, bottom, top, others, drop):
+        """A key's leader [pixels]: (x, y) of its points, from its line's exit ``end`` on the axes'
+        top edge ``top`` to ``start`` on the key's bottom edge ``bottom``. Straight, unless that
+        line passes within :data:`_LEADER_GAP_POINTS` of one of the boxes ``others`` (the other
+        keys, the title, the tick and mode labels: the 10-rotor chain's 'r006-r007' key, right of
+        the 'r004-r005' key above its exit, ran its leader 0.2 points under that key's text): then
+        straight down ``drop`` [pixels] from the key first and on to the exit from there, below
+        the row of keys."""
+        spacing = _LEADER_GAP_POINTS * self.points * np.array([-1.0, -1.0, 1.0, 1.0])
+        if not others or not crossing_pairs([(end, top, start, bottom)],
+                                             np.asarray(others, float).reshape(-1, 4) + spacing).any():
+            return [end, start], [top, bottom]
+        return [end, start, start], [top, bottom - drop, bottom]
 
     # -- modes ---------------------------------------------------------------------------
     def _reset_mode_texts(self):
@@ -1128,7 +1149,7 @@ class _CampbellLabels:
             self._set(text, position=(box[0], box[1] + h / 2), va="center", ha="left", clip_on=True,
                            color=self._colour(self.modes[i], ends[i][2]), visible=True)
 
-    def _label_box(self, anchor, near, gap, placed, markers, clear, own_nearest=False, wide=False):
+    def _label_box(self, anchor, near, gap, placed, markers, clear, own_nearest=False, wide=False, group=()):
         """A label's box (axes fraction) and its leader line ((start, end) or None), or (None, None).
 
         The first of the ``near`` boxes (touching the anchor) that lies inside the axes, clear
@@ -1139,7 +1160,8 @@ class _CampbellLabels:
         leader crossing no label nor any of the ``markers`` and ending ``clear`` (u, v) short of
         the anchor. ``own_nearest`` (critical speeds): every box, and every leader's end, lies
         :data:`_NEAREST_OWN` times as far from the centre of each of the ``markers`` as from the
-        anchor (:meth:`_nearest_own`).
+        anchor (:meth:`_nearest_own`). ``group``: the centres (axes fraction) of the circles one
+        label names (the anchor's first), the leader drawn to them (:meth:`_group_leader`).
         """
         u, v = anchor
         keep = (u - ANCHOR_POINTS * self.points * self.to_u, v - ANCHOR_POINTS * self.points * self.to_v,
@@ -1175,6 +1197,8 @@ class _CampbellLabels:
         grid, far = around()
         others = list(placed)
         others_array = np.asarray(others, float).reshape(-1, 4)      # (taken once: the checks run per box)
+        # the labels placed, each widened by the leader's gap (_LEADER_GAP_POINTS) on every side
+        spaced = others_array + self._leader_gap() * np.array([-1.0, -1.0, 1.0, 1.0])
 
         def leader_clear(boxes, drawn=True):
             # each of the boxes (n, 4): its leader (from the box's point nearest the anchor) nor
@@ -1190,6 +1214,10 @@ class _CampbellLabels:
             to_anchor = np.column_stack([starts, np.broadcast_to(np.asarray(anchor, float), starts.shape)])
             if len(others_array):
                 ok &= ~crossing_pairs(to_anchor, others_array).any(axis=1)
+                # nor as drawn within the gap of another label's text (a leader too short to draw
+                # is none: the box touches its circle)
+                shown = ok & ~self._too_short_each(starts, anchor, clear_px)     # (the others fail anyway)
+                ok[shown] = ~crossing_pairs(np.column_stack([starts, short])[shown], spaced).any(axis=1)
             ok &= ~_segments_crossed(starts, anchor, self._leader_array())
             if len(markers_array):
                 ok &= ~crossing_pairs(np.column_stack([starts, short]) if drawn else to_anchor,
@@ -1284,7 +1312,9 @@ class _CampbellLabels:
             return None, None
         start = nearest_in(box, anchor)
         self.leader_lines.append((start, anchor))
-        return box, (start, self._short_of(start, anchor, clear_px))
+        if len(group) > 1:
+            return box, self._group_leader(start, group, clear)
+        return box, self._drawn_leader(start, anchor, clear_px)
 
     def _wider_box(self, anchor, size, clear_px, tried, placed, gap, frame, markers, uncrossed):
         """A critical speed's label box (axes fraction) farther to the side than :meth:`_label_box`'s
@@ -1368,6 +1398,35 @@ class _CampbellLabels:
                                           np.asarray(self.leader_lines, float).reshape(-1, 4))
         return cached[2]
 
+    def _leader_gap(self):
+        """:data:`_LEADER_GAP_POINTS` along u and v (axes fraction): (gap_u, gap_v, gap_u, gap_v)."""
+        gap = _LEADER_GAP_POINTS * self.points
+        return np.array([gap * self.to_u, gap * self.to_v] * 2)
+
+    def _too_short_each(self, starts, centre, clear_px):
+        """Whether each of ``starts`` ((n, 2), axes fraction) lies within ``clear_px`` [pixels] of
+        ``centre`` (axes fraction): a leader from there, stopped ``clear_px`` short of the centre,
+        would run back from its start into its own label (fan_on_bearings' '8845', 2.6 points
+        above its circle, drew 1.4 points of leader inside its own text). Mask (n,)."""
+        starts = np.asarray(starts, float).reshape(-1, 2)
+        return np.hypot((starts[:, 0] - centre[0]) / self.to_u, (starts[:, 1] - centre[1]) / self.to_v) <= clear_px
+
+    def _drawn_leader(self, start, centre, clear_px):
+        """The leader line as drawn from ``start`` towards ``centre`` (axes fraction), stopped
+        ``clear_px`` [pixels] short of it: (start, end), or None where it would run back
+        (:meth:`_too_short_each`)."""
+        if self._too_short_each([start], centre, clear_px)[0]:
+            return None
+        return tuple(start), self._short_of(start, centre, clear_px)
+
+    def _drawn_array(self):
+        """The leader lines as drawn so far (:attr:`drawn_leaders`) as an (n, 4) array."""
+        cached = self.__dict__.get("drawn_array")
+        if cached is None or cached[0] is not self.drawn_leaders or cached[1] != len(self.drawn_leaders):
+            cached = self.drawn_array = (self.drawn_leaders, len(self.drawn_leaders),
+                                         np.asarray(self.drawn_leaders, float).reshape(-1, 4))
+        return cached[2]
+
     def _short_of(self, start, centre, clear_px):
         """The end (axes fraction) of a leader line from ``start`` to ``centre`` (axes fraction)
         stopped ``clear_px`` [pixels] short of ``centre`` (outside its circle)."""
@@ -1434,9 +1493,12 @@ class _CampbellLabels:
         return segments, (frame.x0, frame.y0), (frame.width, frame.height), segment_bounds(segments)
 
     def _show_leader(self, line, leader, colour):
+        """Draw ``line`` along ``leader`` ((start, end), axes fraction; kept in :attr:`drawn_leaders`),
+        or hide it (None)."""
         if leader is None:
             self._set(line, visible=False)
             return
+        self.drawn_leaders.append(leader)
         (x0, y0), (x1, y1) = leader
         self._set(line, xdata=[x0, x1], ydata=[y0, y1], color=colour, visible=True)
 
@@ -1491,9 +1553,7 @@ class _CampbellLabels:
             mine = {(a - radius_u, b - radius_v, a + radius_u, b + radius_v) for a, b in own}
             box, leader = self._label_box((u, v), [(a, b, a + w, b + h) for a, b in corners], gap, placed,
                                           [m for m in markers if m not in mine], (radius_u, radius_v),
-                                          own_nearest=True, wide=wide)
-            if leader is not None and len(own) > 1:
-                leader = self._group_leader(leader[0], own, (radius_u, radius_v))
+                                          own_nearest=True, wide=wide, group=own)
         self._show_leader(self.critical_leaders[j], leader, "k")
         if box is None:
             self._set(text, visible=False)
@@ -1505,12 +1565,13 @@ class _CampbellLabels:
         """The leader from ``start`` to a group's circles ``own`` (axes fraction): to the edge of the
         circle farthest along its way, so that it ends beside every circle of the group (ending at
         the first circle's edge on the side away from the second, the fan's '3898/3943', circles
-        3.6 pixels apart, pointed at 3898 only)."""
+        3.6 pixels apart, pointed at 3898 only); None where ``start`` lies inside that circle's
+        clearance (:meth:`_drawn_leader`)."""
         px = np.array([1 / self.to_u, 1 / self.to_v])
         start_px, centres = np.asarray(start) * px, np.asarray(own) * px
         way = centres.mean(axis=0) - start_px
         target = own[int(np.argmax(centres @ way))]
-        return tuple(start), self._short_of(start, target, max(clear[0] / self.to_u, clear[1] / self.to_v))
+        return self._drawn_leader(start, target, max(clear[0] / self.to_u, clear[1] / self.to_v))
 
     def _in_view(self):
         """Indices of the critical speeds whose markers lie inside the axes."""
@@ -1600,6 +1661,11 @@ class _CampbellLabels:
         drawn_leaders = self._leader_array()
         if len(drawn_leaders):
             ok &= ~crossing_pairs(drawn_leaders, boxes).any(axis=0)
+            # nor within the leader's gap of one as drawn (_LEADER_GAP_POINTS)
+            shown, left = self._drawn_array(), np.flatnonzero(ok)       # (the others fail anyway)
+            if len(shown) and len(left):
+                spaced = np.asarray(boxes, float).reshape(-1, 4)[left] + self._leader_gap() * np.array([-1.0, -1.0, 1.0, 1.0])
+                ok[left] = ~crossing_pairs(shown, spaced).any(axis=0)
         return ok
 
     def _name_mentioned(self):

@@ -39,9 +39,11 @@ def _one_blas_thread():
     the package's own limit (marked ``blas_threads``) run with BLAS's own threads
     (:func:`_blas_threads_where_asked`); processes the tests start keep theirs. Yields a
     ``[controller, limiter]`` (None without threadpoolctl)."""
+    import importlib
+
     try:
-        import numpy  # noqa: F401
-        import scipy.linalg  # noqa: F401
+        for name in ("numpy", "scipy.linalg"):              # their libraries loaded before the limit
+            importlib.import_module(name)
         from threadpoolctl import ThreadpoolController
     except ImportError:  # pragma: no cover
         yield None

@@ -36,7 +36,8 @@ def _one_blas_thread():
     worker's core, mostly spinning while they waited for work (``tests/test_unbalance_markers36.py``
     at -n 1: 37.9 s of CPU against 49.5 s with OpenBLAS's own two threads). The package's results do
     not depend on BLAS's threads (``tests/test_deterministic_results.py``). The tests that check
-    the package's own limit (marked ``blas_threads``) run with BLAS's own threads
+    the package's own limit, or compare the CPU measured in the test process with the package's
+    estimates (their modules marked ``blas_threads``), run with BLAS's own threads
     (:func:`_blas_threads_where_asked`); processes the tests start keep theirs. Yields a
     ``[controller, limiter]`` (None without threadpoolctl)."""
     import importlib
@@ -54,10 +55,12 @@ def _one_blas_thread():
     held[1].restore_original_limits()
 
 
-@pytest.fixture(autouse=True)
+@pytest.fixture(scope="module", autouse=True)
 def _blas_threads_where_asked(request, _one_blas_thread):
-    """BLAS's own threads for a test marked ``blas_threads`` (one that checks the package's own
-    limit of them, or compares runs with and without it), the one-thread limit again after it."""
+    """BLAS's own threads for the tests of a module marked ``blas_threads`` (``pytestmark``), its
+    module-scoped fixtures included: one that checks the package's own limit of them, or measures
+    the CPU the package's work takes in the test process against its estimates and limits (made
+    for the command's process, with OpenBLAS's own threads). The one-thread limit again after it."""
     if _one_blas_thread is None or request.node.get_closest_marker("blas_threads") is None:
         yield
         return

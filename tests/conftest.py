@@ -29,6 +29,49 @@ def _in_the_repository(monkeypatch):
     monkeypatch.chdir(ROOT)
 
 
+@pytest.fixture(scope="session", autouse=True)
+def _one_blas_thread():
+    """OpenBLAS held to one thread in the test process (numpy's library and scipy's, both loaded
+    first): pytest-xdist runs a worker per core, and a worker's BLAS threads took the other
+    worker's core, mostly spinning while they waited for work (``tests/test_unbalance_markers36.py``
+    at -n 1: 37.9 s of CPU against 49.5 s with OpenBLAS's own two threads). The package's results do
+    not depend on BLAS's threads (``tests/test_deterministic_results.py``). The tests that check
+    the package's own limit, or compare the CPU measured in the test process with the package's
+    estimates (their modules marked ``blas_threads``), run with BLAS's own threads
+    (:func:`_blas_threads_where_asked`); processes the tests start keep theirs. Yields a
+    ``[controller, limiter]`` (None without threadpoolctl)."""
+    import importlib
+
+    try:
+        for name in ("numpy", "scipy.linalg"):              # their libraries loaded before the limit
+            importlib.import_module(name)
+        from threadpoolctl import ThreadpoolController
+    except ImportError:  # pragma: no cover
+        yield None
+        return
+    controller = ThreadpoolController()
+    held = [controller, controller.limit(limits=1, user_api="blas")]
+    yield held
+    held[1].restore_original_limits()
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _blas_threads_where_asked(request, _one_blas_thread):
+    """BLAS's own threads for the tests of a module marked ``blas_threads`` (``pytestmark``), its
+    module-scoped fixtures included: one that checks the package's own limit of them, or measures
+    the CPU the package's work takes in the test process against its estimates and limits (made
+    for the command's process, with OpenBLAS's own threads). The one-thread limit again after it."""
+    if _one_blas_thread is None or request.node.get_closest_marker("blas_threads") is None:
+        yield
+        return
+    controller, limiter = _one_blas_thread
+    limiter.restore_original_limits()
+    try:
+        yield
+    finally:
+        _one_blas_thread[1] = controller.limit(limits=1, user_api="blas")
+
+
 @pytest.fixture
 def examples_dir() -> Path:
     return EXAMPLES

@@ -20,6 +20,9 @@ import rotordyn_modal as rdm
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_large_machine_cli import chained_gear_toml  # noqa: E402
 
+#: checks BLAS's threads in the test process: with OpenBLAS's own, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 
 def _blas_threads():
     from threadpoolctl import threadpool_info

@@ -29,6 +29,9 @@ import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _cost, _work
 from rotordyn_modal.cli import main
 
+#: checks BLAS's threads in the test process: with OpenBLAS's own, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 #: the CPU seconds the tests say a solution of the fan's 32 states takes (below the pessimistic
 #: bound 1e-8 n^3 of the sizes the quick bound sees, so the bound never passes what is refused)
 ONE = 1e-4

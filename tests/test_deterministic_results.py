@@ -37,6 +37,9 @@ from rotordyn_modal.analysis._stack import Stack
 
 from shaft_models import fan_shaft
 
+#: checks BLAS's threads in the test process: with OpenBLAS's own, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 ROOT = Path(__file__).resolve().parents[1]
 RPM = np.pi / 30
 

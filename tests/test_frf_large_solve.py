@@ -21,6 +21,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_blas_threads import _blas_threads  # noqa: E402
 from test_large_machine_cli import chained_gear_toml  # noqa: E402
 
+#: checks BLAS's threads in the test process: with OpenBLAS's own, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 EXCITATION = '\n[[excitations]]\nname = "tap"\nposition = [0.0, 0.0, 0.4]\ndirection = [0.0, 0.0, 1.0]\n'
 SENSOR = '\n[[sensors]]\nname = "top"\nposition = [0.0, 0.0, 0.4]\ndirection = [0.0, 0.0, 1.0]\n'

@@ -20,6 +20,10 @@ import rotordyn_modal as rdm
 from degenerate_models import ROTOR_ON_BEARINGS, variant
 from rotordyn_modal.errors import InputError
 
+#: measures the CPU of the package's work in the test process against its estimates or limits (made
+#: for the command's process): with OpenBLAS's own threads, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 TABLE_MODEL = """name = "table rotor"
 [[rotors]]
 name = "r"

@@ -22,6 +22,9 @@ from rotordyn_modal.analysis import _lowest
 from rotordyn_modal.analysis._stack import Stack
 from rotordyn_modal.io.ross_file import read_ross_rotor
 
+#: checks BLAS's threads in the test process: with OpenBLAS's own, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 ROTOR_EXAMPLE = "tests/data/ross/rotor_example.toml"
 
 

@@ -27,6 +27,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_large_machine_cli import chained_gear_toml  # noqa: E402
 from test_long_report_level1 import SENSOR  # noqa: E402
 
+#: measures the CPU of the package's work in the test process against its estimates or limits (made
+#: for the command's process): with OpenBLAS's own threads, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 collect_module = importlib.import_module("rotordyn_modal.report.collect")   # not the function collect
 
 

@@ -26,6 +26,10 @@ from rotordyn_modal.analysis import unbalance_peaks
 from rotordyn_modal.analysis.unbalance import api_unbalance_response
 from rotordyn_modal.analysis.unbalance_checks import unbalance_checks
 
+#: measures the CPU of the package's work in the test process against its estimates or limits (made
+#: for the command's process): with OpenBLAS's own threads, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 collect_module = importlib.import_module("rotordyn_modal.report.collect")   # not the function collect
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "fan_on_bearings.toml"

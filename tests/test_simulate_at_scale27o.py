@@ -24,6 +24,10 @@ from rotordyn_modal.simulation._kernels import plain_namespace
 from rotordyn_modal.simulation._system import system_arrays
 from test_large_machine_cli import chained_gear_toml
 
+#: measures the CPU of the package's work in the test process against its estimates or limits (made
+#: for the command's process): with OpenBLAS's own threads, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 simulate_module = importlib.import_module("rotordyn_modal.simulation.simulate")
 
 

@@ -33,6 +33,10 @@ import rotordyn_modal as rdm
 from test_large_machine_cli import chained_gear_toml
 from test_simulate_signals import PROMPT, RUNNER
 
+#: measures the CPU of the package's work in the test process against its estimates or limits (made
+#: for the command's process): with OpenBLAS's own threads, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 simulate_module = importlib.import_module("rotordyn_modal.simulation.simulate")
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -22,6 +22,10 @@ from degenerate_models import variant
 from rotordyn_modal.cli import main
 from rotordyn_modal.errors import InputError
 
+#: measures the CPU of the package's work in the test process against its estimates or limits (made
+#: for the command's process): with OpenBLAS's own threads, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 KICK = '[[excitations]]\nname = "kick"\nposition = [0.2, 0.0, 0.0]\ndirection = [0.0, 1.0, 0.0]\n'
 #: (duration [s], limit [CPU minutes]) of each backend's run: about a second of CPU each
 RUNS = {"numba": (1e-4, "1e-6"), "numpy": (3e-6, "1e-6")}

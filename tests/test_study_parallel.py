@@ -12,6 +12,9 @@ import pytest
 import rotordyn_modal as rdm
 from rotordyn_modal.study.execution import limit_threads, worker_initializer
 
+#: checks BLAS's threads in the test process: with OpenBLAS's own, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 SPEC = {"seed": 42, "samples": 12, "design": "sobol",
         "parameters": [{"key": "suspensions.mount-FL.stiffness", "apply": "scale", "distribution": "uniform",
                         "low": 0.85, "high": 1.15},

@@ -24,6 +24,9 @@ from rotordyn_modal.analysis import unbalance as unbalance_module
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_large_machine_cli import chained_gear_toml  # noqa: E402
 
+#: checks BLAS's threads in the test process: with OpenBLAS's own, not the one conftest.py holds it to
+pytestmark = pytest.mark.blas_threads
+
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 UNBALANCES = """

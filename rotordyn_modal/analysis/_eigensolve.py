@@ -1038,6 +1038,10 @@ def _real_cluster(values, shapes, bound, run, found, defective) -> bool:
     out, each = roots.copy(), np.full(len(run), float(left))
     if defective:
         _one_defective_root(out, each, np.arange(2))
+    elif len(out) == 2 and out[0].imag * out[1].imag < 0:
+        # a conjugate pair: its two polished roots' real parts differ in the last bits with the
+        # BLAS's threads (one thread: -33.1115257083708 and -33.11152570837079), its copies one value
+        out.real = out.real.mean()
     each = each + np.abs(out.imag) / np.abs(out)         # the triangle: its polished error and the axis's
     values[run], shapes[run], bound[run] = out.real + 0j, found_shapes, each
     return True

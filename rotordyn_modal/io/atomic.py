@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 
 from ..errors import InputError, OutputError, OutputWriteError
+from .limits import shown_name, unreachable_name
 
 __all__ = ["atomic_write", "check_not_input", "check_writable", "remove_stale_temporaries",
            "outputs_together", "after_commit", "same_file", "real_target"]
@@ -182,8 +183,6 @@ def check_writable(path) -> None:
     """
     if not os.fspath(path):     # Path('') is '.': "cannot write : it is a folder"
         raise OutputError("'' (an empty file name): expected the name of the file to write")
-    from .limits import shown_name, unreachable_name
-
     problem = unreachable_name(path)
     if problem and not str(path).endswith((os.sep, "/", "/.")):   # those: "a name ending in '/'" below
         raise OutputError(f"cannot write {shown_name(path)}: its name {problem}")

@@ -82,10 +82,8 @@ _ALONG_REACH_POINTS, _ALONG_DEGREES, _ALONG_POINTS, _ALONG_SHARE = 4.0, 15.0, 8.
 #: 1 to 2 points beside the 2X line), one 10 degrees off opens away from it (gear_machine's '561'
 #: at 0:12000:241, straight up between two order lines, 7 points off the 1X motor line at its end)
 _ALONG_ORDER_DEGREES = 6.0
-#: a leader line keeps at least this many points (its centre line to the box) off every other
-#: label's text box on the axes (critical-speed, order-line and mode labels, the keys, the note):
-#: nearer, it reads as touching the text (:data:`~._labels.LEADER_GAP_POINTS` says why one point)
-_LEADER_GAP_POINTS = LEADER_GAP_POINTS
+#: the signs that widen a box (left, bottom, right, top) on every side
+_OUTWARD = np.array([-1.0, -1.0, 1.0, 1.0])
 
 
 #: a right-edge label reaching nearer the figure's edge than this [pixels] has the figure laid
@@ -1049,12 +1047,12 @@ class _CampbellLabels:
     def _key_leader(self, start, end, bottom, top, others, drop):
         """A key's leader [pixels]: (x, y) of its points, from its line's exit ``end`` on the axes'
         top edge ``top`` to ``start`` on the key's bottom edge ``bottom``. Straight, unless that
-        line passes within :data:`_LEADER_GAP_POINTS` of one of the boxes ``others`` (the other
+        line passes within :data:`~._labels.LEADER_GAP_POINTS` of one of the boxes ``others`` (the other
         keys, the title, the tick and mode labels: the 10-rotor chain's 'r006-r007' key, right of
         the 'r004-r005' key above its exit, ran its leader 0.2 points under that key's text): then
         straight down ``drop`` [pixels] from the key first and on to the exit from there, below
         the row of keys."""
-        spacing = _LEADER_GAP_POINTS * self.points * np.array([-1.0, -1.0, 1.0, 1.0])
+        spacing = LEADER_GAP_POINTS * self.points * _OUTWARD
         if not others or not crossing_pairs([(end, top, start, bottom)],
                                              np.asarray(others, float).reshape(-1, 4) + spacing).any():
             return [end, start], [top, bottom]
@@ -1197,8 +1195,8 @@ class _CampbellLabels:
         grid, far = around()
         others = list(placed)
         others_array = np.asarray(others, float).reshape(-1, 4)      # (taken once: the checks run per box)
-        # the labels placed, each widened by the leader's gap (_LEADER_GAP_POINTS) on every side
-        spaced = others_array + self._leader_gap() * np.array([-1.0, -1.0, 1.0, 1.0])
+        # the labels placed, each widened by the leader's gap (LEADER_GAP_POINTS) on every side
+        spaced = others_array + self._leader_spacing()
 
         def leader_clear(boxes, drawn=True):
             # each of the boxes (n, 4): its leader (from the box's point nearest the anchor) nor
@@ -1390,18 +1388,28 @@ class _CampbellLabels:
         return cached[2:]
 
     def _leader_array(self):
-        """The leader lines drawn so far (:attr:`leader_lines`) as an (n, 4) array, made again only
-        when one was added."""
-        cached = self.__dict__.get("leader_array")
-        if cached is None or cached[0] is not self.leader_lines or cached[1] != len(self.leader_lines):
-            cached = self.leader_array = (self.leader_lines, len(self.leader_lines),
-                                          np.asarray(self.leader_lines, float).reshape(-1, 4))
+        """The leader lines drawn so far (:attr:`leader_lines`) as an (n, 4) array."""
+        return self._rows_array("leader_lines")
+
+    def _drawn_array(self):
+        """The leader lines as drawn so far (:attr:`drawn_leaders`) as an (n, 4) array."""
+        return self._rows_array("drawn_leaders")
+
+    def _rows_array(self, name):
+        """The list of (start, end) attribute ``name`` as an (n, 4) array, made again only when the
+        list was replaced or one was added."""
+        rows = getattr(self, name)
+        cache = self.__dict__.setdefault("row_arrays", {})
+        cached = cache.get(name)
+        if cached is None or cached[0] is not rows or cached[1] != len(rows):
+            cached = cache[name] = (rows, len(rows), np.asarray(rows, float).reshape(-1, 4))
         return cached[2]
 
-    def _leader_gap(self):
-        """:data:`_LEADER_GAP_POINTS` along u and v (axes fraction): (gap_u, gap_v, gap_u, gap_v)."""
-        gap = _LEADER_GAP_POINTS * self.points
-        return np.array([gap * self.to_u, gap * self.to_v] * 2)
+    def _leader_spacing(self):
+        """What widens a box (axes fraction) by :data:`~._labels.LEADER_GAP_POINTS` on every side:
+        (-gap_u, -gap_v, gap_u, gap_v)."""
+        gap = LEADER_GAP_POINTS * self.points
+        return np.array([gap * self.to_u, gap * self.to_v] * 2) * _OUTWARD
 
     def _too_short_each(self, starts, centre, clear_px):
         """Whether each of ``starts`` ((n, 2), axes fraction) lies within ``clear_px`` [pixels] of
@@ -1418,14 +1426,6 @@ class _CampbellLabels:
         if self._too_short_each([start], centre, clear_px)[0]:
             return None
         return tuple(start), self._short_of(start, centre, clear_px)
-
-    def _drawn_array(self):
-        """The leader lines as drawn so far (:attr:`drawn_leaders`) as an (n, 4) array."""
-        cached = self.__dict__.get("drawn_array")
-        if cached is None or cached[0] is not self.drawn_leaders or cached[1] != len(self.drawn_leaders):
-            cached = self.drawn_array = (self.drawn_leaders, len(self.drawn_leaders),
-                                         np.asarray(self.drawn_leaders, float).reshape(-1, 4))
-        return cached[2]
 
     def _short_of(self, start, centre, clear_px):
         """The end (axes fraction) of a leader line from ``start`` to ``centre`` (axes fraction)
@@ -1661,10 +1661,10 @@ class _CampbellLabels:
         drawn_leaders = self._leader_array()
         if len(drawn_leaders):
             ok &= ~crossing_pairs(drawn_leaders, boxes).any(axis=0)
-            # nor within the leader's gap of one as drawn (_LEADER_GAP_POINTS)
+            # nor within the leader's gap of one as drawn (LEADER_GAP_POINTS)
             shown, left = self._drawn_array(), np.flatnonzero(ok)       # (the others fail anyway)
             if len(shown) and len(left):
-                spaced = np.asarray(boxes, float).reshape(-1, 4)[left] + self._leader_gap() * np.array([-1.0, -1.0, 1.0, 1.0])
+                spaced = np.asarray(boxes, float).reshape(-1, 4)[left] + self._leader_spacing()
                 ok[left] = ~crossing_pairs(shown, spaced).any(axis=0)
         return ok
 

@@ -10,6 +10,7 @@ picklable :class:`ChunkTask`, so any ``concurrent.futures`` executor serves:
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
 import logging
@@ -418,8 +419,6 @@ def _check_folder(folder: Path) -> None:
 def _dangling(link: Path) -> str:
     """What a link that leads to no file leads to: "does not exist", or a loop of links (its
     target exists, a link itself: it was said not to exist)."""
-    import errno
-
     try:
         os.stat(link)
     except OSError as error:

@@ -552,7 +552,7 @@ def _check_complete(path):
     with open(path, encoding="latin-1") as handle:
         # a UTF-8 byte order mark (Windows tools write one) before the first '    -1': pyuff reads past it
         lines = handle.read().removeprefix(_BOM_LATIN1).splitlines()
-    marks = [k for k, line in enumerate(lines) if line.strip() == "-1" and line.startswith("    -1")]
+    marks = [k for k, line in enumerate(lines) if _is_delimiter(line)]
     tail = [line for line in lines[(marks[-1] + 1 if marks else 0):] if line.strip()]
     if len(marks) % 2 and len(marks) > 1:
         _warn_cut_short(path, lines, marks)
@@ -564,6 +564,19 @@ def _check_complete(path):
         line = (marks[-1] + 2) if marks else 1
         raise InputError(f"{path}: incomplete Universal File: a dataset is not closed by a '    -1' line "
                          f"(from line {line}): the file is truncated or has trailing text")
+    if any(not lines[k].rstrip().endswith(DELIMITER) for k in marks):
+        return len(lines)     # read from a copy with its delimiters as pyuff finds them (_first_lines)
+
+
+#: a dataset delimiter as the Universal File format writes it (columns 1-6) and pyuff finds it
+DELIMITER = "    -1"
+
+
+def _is_delimiter(line: str) -> bool:
+    """Whether a line of a Universal File is a dataset delimiter: ``-1`` alone within its first
+    8 columns, written ``    -1`` or not (a tab or fewer blanks before it, as hand-edited and some
+    exported files have; pyuff finds only ``    -1``)."""
+    return line.strip() == "-1" and len(line.rstrip()) <= 8
 
 
 def _warn_trailing_text(path, lines, marks) -> None:
@@ -723,13 +736,17 @@ def _read_each(name, kinds, path):
 
 def _first_lines(path, count: int) -> bytes:
     """The bytes of the first ``count`` lines of ``path`` (lines as :func:`_check_complete` counts
-    them: of its Latin-1 text, a leading byte-order mark passed over), each with its line end."""
+    them: of its Latin-1 text, a leading byte-order mark passed over), each with its line end;
+    a dataset delimiter written otherwise (:func:`_is_delimiter`) written ``    -1``."""
     with open(path, "rb") as handle:
         data = handle.read()
     text = data.decode("latin-1")
     mark = len(_BOM_LATIN1) if text.startswith(_BOM_LATIN1) else 0
     kept = text[mark:].splitlines(keepends=True)[:count]
-    return data[:mark + sum(len(line) for line in kept)]
+    if all(line.rstrip().endswith(DELIMITER) for line in kept if _is_delimiter(line)):
+        return data[:mark + sum(len(line) for line in kept)]
+    written = (DELIMITER + line[len(line.rstrip("\r\n")):] if _is_delimiter(line) else line for line in kept)
+    return data[:mark] + "".join(written).encode("latin-1")
 
 
 def _without_trailing_blanks(path):

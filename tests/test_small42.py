@@ -38,3 +38,35 @@ def test_a_uff_dataset_delimiter_written_with_a_tab_or_fewer_blanks_is_read(tmp_
     np.testing.assert_array_equal(read.frequencies_hz, expected.frequencies_hz)
     np.testing.assert_array_equal(read.H, expected.H)
     assert read.outputs == expected.outputs and read.inputs == expected.inputs
+
+
+EXAMPLE_JOURNAL = ROOT / "examples" / "journal_rotor.toml"
+
+
+def _journal_model(tmp_path, old, new):
+    """journal_rotor.toml with ``old`` replaced by ``new`` in both bearings, written to tmp_path."""
+    text = EXAMPLE_JOURNAL.read_text()
+    assert text.count(old) == 2
+    path = tmp_path / "journal.toml"
+    path.write_text(text.replace(old, new))
+    return path
+
+
+@pytest.mark.parametrize("old,new,key,value", [
+    ("viscosity = 0.02", "viscosity = 2e-8", "viscosity", "2e-08"),       # below any fluid
+    ("viscosity = 0.02", "viscosity = 3.2e-5", "viscosity", "3.2e-05"),   # ISO VG 32's 32 cSt in m^2/s
+    ("clearance = 5.0e-5", "clearance = 5.0e-8", "clearance", "5e-08"),   # 50 micrometres converted twice
+])
+def test_a_journal_fluid_thinner_than_water_or_a_clearance_below_a_tenth_of_a_per_mille_draws_one_line(
+        tmp_path, old, new, key, value):
+    """Plain journal bearings run radial clearances of 0.001 to 0.003 of the radius on oils of
+    0.002 to 1 Pa s; a viscosity of 2e-8 Pa s (no fluid is that thin) or a clearance of 5e-8 m on a
+    50 mm journal went into the film's coefficients without a word (`check` exit 0, nothing on
+    stderr), while the same mistakes upwards (THICK_OIL, WIDE_CLEARANCE) warned."""
+    model = _journal_model(tmp_path, old, new)
+    code, err = run_quietly(["check", str(model)])
+    assert code == 0, err
+    said = [line for line in err.splitlines() if f"] {key} = {value}" in line]
+    assert [line.split("[")[1].split("]")[0] for line in said] == ["bearings.DE", "bearings.NDE"], err
+    code, err = run_quietly(["check", str(EXAMPLE_JOURNAL)])                # the example as given: no line
+    assert code == 0 and "viscosity =" not in err and "clearance =" not in err, err

@@ -68,3 +68,38 @@ def test_a_journal_fluid_thinner_than_water_or_a_clearance_below_a_tenth_of_a_pe
     assert [line.split("[")[1].split("]")[0] for line in said] == ["bearings.DE", "bearings.NDE"], err
     code, err = run_quietly(["check", str(EXAMPLE_JOURNAL)])                # the example as given: no line
     assert code == 0 and "viscosity =" not in err and "clearance =" not in err, err
+
+
+def _frf_uff(path):
+    """``path``: a Universal File of the 4 FRFs (2 sensors x 2 excitations) of rubber_mounts.toml
+    at rest, 40 lines 5-20 Hz, as the command line writes it."""
+    code, err = run_quietly(["frf", str(EXAMPLE_RUBBER), "--speed", "0", "--freqs", "5:20:40", "--out", str(path)])
+    assert code == 0, err
+    return path
+
+
+def test_an_frf_dataset_cut_short_among_complete_ones_is_left_out_and_the_others_read(tmp_path):
+    """A file whose second dataset 58 holds 6 of its 40 values (a copy cut in the middle of an
+    export, the closing '-1' kept) was refused as a whole ("at 0 rpm the FRF acc-top-z / shaker-y
+    has 6 frequencies where the data of that speed has 40"): its 3 complete FRFs are read, equal
+    to the whole file's, and one line names the dataset left out."""
+    import rotordyn_modal as rdm
+    from rotordyn_modal.io.measured import read_measured
+
+    model = rdm.load_model(EXAMPLE_RUBBER)
+    whole = _frf_uff(tmp_path / "whole.uff")
+    lines = whole.read_text().splitlines(keepends=True)
+    marks = [k for k, line in enumerate(lines) if line.rstrip("\r\n") == "    -1"]
+    assert len(marks) == 8                                        # 4 datasets
+    start, end = marks[2], marks[3]              # the second dataset: its number and records 1-11, then its data
+    assert lines[start + 1].strip() == "58" and end - start - 1 - 12 == 20      # 2 complex values a line
+    cut = tmp_path / "cut.uff"
+    cut.write_text("".join(lines[:start + 1 + 12 + 3] + lines[end:]))          # 3 data lines (6 values) kept
+    with pytest.warns(UserWarning, match=r"cut\.uff: dataset 2 \(.*\) holds 6 of the 40 values .*cut short\): "
+                                         r"left out, the 3 complete FRFs read"):
+        (read,) = read_measured(cut, model)
+    (expected,) = read_measured(whole, model)
+    assert read.outputs == expected.outputs and read.inputs == expected.inputs
+    missing = np.isnan(read.H).all(axis=-1)
+    assert missing.sum() == 1                                     # the pair left out
+    np.testing.assert_array_equal(read.H[~missing], expected.H[~missing])

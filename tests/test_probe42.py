@@ -1,0 +1,56 @@
+"""Inputs a new user tries in the families of issues 28 and 29 that no earlier test named (session
+42's probes: /work/notes/reports42/probe42_tried.md lists every one tried).
+
+Each test here failed on the code before its fix: an option of another sub-command
+(``frf --amplitude rms``) refused as the program's, not the sub-command's, naming no command that
+takes it; and the others listed in each test's docstring.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from quiet_cli import run_quietly
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+COMPRESSOR = EXAMPLES / "compressor_rotor.toml"
+
+
+def _one_line(err: str) -> str:
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1, err
+    return lines[0]
+
+
+# ------------------------------------------------------------------ options of other sub-commands
+@pytest.mark.parametrize("command, required", [
+    ("frf", ["--freqs", "1:500:5"]),
+    ("campbell", ["--speeds", "0:1000:3"]),
+    ("check", []),
+])
+def test_an_option_of_other_sub_commands_is_refused_by_this_one_naming_those(command, required):
+    """``frf MODEL --amplitude rms`` said ``rotordyn-modal: error: unrecognized arguments:
+    --amplitude rms (see 'rotordyn-modal --help')``: neither the sub-command refused nor those
+    that take --amplitude (unbalance and report, where it is documented)."""
+    code, err = run_quietly([command, str(COMPRESSOR), *required, "--amplitude", "rms"])
+    line = _one_line(err)
+    assert code == 2
+    assert line.startswith(f"rotordyn-modal {command}: error: unrecognized arguments: --amplitude rms")
+    assert "--amplitude is an option of unbalance, report" in line
+    assert f"see 'rotordyn-modal {command} --help'" in line
+
+
+def test_a_typo_of_the_sub_commands_own_option_names_the_option_meant():
+    """``campbell --lowset 6`` (a typo of ``--lowest``) named no option."""
+    code, err = run_quietly(["campbell", str(COMPRESSOR), "--speeds", "0:1000:3", "--lowset", "6"])
+    assert code == 2
+    assert "did you mean '--lowest'?" in _one_line(err)
+
+
+def test_an_extra_positional_argument_is_still_refused_by_its_sub_command():
+    code, err = run_quietly(["check", str(COMPRESSOR), "second.toml"])
+    assert code == 2
+    assert _one_line(err).startswith("rotordyn-modal check: error: unrecognized arguments: second.toml (see")

@@ -54,3 +54,30 @@ def test_an_extra_positional_argument_is_still_refused_by_its_sub_command():
     code, err = run_quietly(["check", str(COMPRESSOR), "second.toml"])
     assert code == 2
     assert _one_line(err).startswith("rotordyn-modal check: error: unrecognized arguments: second.toml (see")
+
+
+# ------------------------------------------------------------------ API 617 Level I stage data
+@pytest.mark.parametrize("command, extra", [
+    ("level1", []),
+    ("report", ["--standard", "api617", "--out", "report.html"]),
+])
+def test_a_density_ratio_beside_turbine_stages_is_refused(tmp_path, monkeypatch, command, extra):
+    """``--machine turbine --density-ratio 1.2`` was dropped without a word (API 617's turbine
+    formula qa = 1.5 T / (D H) has no density ratio): Qa came out 265258 N/m for a ratio the user
+    had given, and no report file was to be written either."""
+    monkeypatch.chdir(tmp_path)
+    code, err = run_quietly([command, str(COMPRESSOR), "--mcs", "9000", "--station", "compressor",
+                             "--rated-power", "1e6", "--impeller-diameter", "0.3", "--restriction-height", "0.02",
+                             "--machine", "turbine", "--density-ratio", "1.2", "--quiet", *extra])
+    assert code == 2
+    line = _one_line(err)
+    assert "--density-ratio 1.2" in line and "--machine turbine" in line
+    assert not (tmp_path / "report.html").exists()
+
+
+def test_a_stage_value_out_of_range_names_the_stage_count_in_words():
+    """``--impeller-diameter -0.3`` said 'expected 1 finite values > 0'."""
+    code, err = run_quietly(["level1", str(COMPRESSOR), "--mcs", "9000", "--station", "compressor",
+                             "--rated-power", "1e6", "--impeller-diameter", "-0.3", "--restriction-height", "0.02"])
+    assert code == 2
+    assert _one_line(err).endswith("--impeller-diameter -0.3: expected finite values > 0, one per stage (1 stage)")

@@ -138,7 +138,8 @@ def anticipated_cross_coupling(power, speed, diameter, height, density_ratio=1.0
         else np.ones_like(power)
     for name, values in (("power", power), ("diameter", diameter), ("height", height), ("density_ratio", ratio)):
         if values.shape != power.shape or not np.all(np.isfinite(values)) or not np.all(values > 0):
-            raise InputError(f"{name} = {values.tolist()}: expected {len(power)} finite values > 0, one per stage")
+            raise InputError(f"{name} = {values.tolist()}: expected finite values > 0, one per stage "
+                             f"({len(power)} {'stage' if len(power) == 1 else 'stages'})")
     if not (np.isfinite(speed) and speed > 0):
         raise InputError(f"speed = {speed!r}: expected the operating speed > 0 [rad/s]")
     factor = B_COMPRESSOR if machine == "compressor" else B_TURBINE

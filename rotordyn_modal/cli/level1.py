@@ -218,6 +218,9 @@ def anticipated_stages(args, count, speed):
                          "stage)")
     power, diameter, height = (from_system(parse_list(o, name), kind, args.units) for o, name, kind in zip(
         stage_options, (power_option, "--impeller-diameter", "--restriction-height"), ("power", "length", "length")))
+    if args.density_ratio is not None and args.machine == "turbine":   # was dropped without a word
+        raise InputError(f"--density-ratio {args.density_ratio}: expected none with --machine turbine (API 617's "
+                         "turbine stages have no density ratio: qa = 1.5 T / (D H))")
     ratio = parse_list(args.density_ratio, "--density-ratio") if args.density_ratio else np.ones(1)
     stages = max(len(power), len(diameter), len(height), len(ratio))
     power, diameter, height, ratio = (_per_stage(v, stages, name) for v, name in zip(

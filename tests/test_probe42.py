@@ -81,3 +81,32 @@ def test_a_stage_value_out_of_range_names_the_stage_count_in_words():
                              "--rated-power", "1e6", "--impeller-diameter", "-0.3", "--restriction-height", "0.02"])
     assert code == 2
     assert _one_line(err).endswith("--impeller-diameter -0.3: expected finite values > 0, one per stage (1 stage)")
+
+
+# ------------------------------------------------------------------ ROSS files
+ROSS = ROOT / "tests" / "data" / "ross" / "speed_tables.toml"
+
+
+def test_a_ross_save_cut_short_before_its_material_tables_names_the_missing_table(tmp_path):
+    """A ROSS save ends with its elements' material tables; cut there, it is still TOML, and the
+    refusal said ``material = None: expected a table with name, rho, E and G_s`` (Python's None,
+    neither the table's name nor why it may be missing)."""
+    text = ROSS.read_text(encoding="utf-8")
+    cut = tmp_path / "cut.toml"
+    cut.write_text(text[:text.index('["ShaftElement_Shaft Element 0".material]')], encoding="utf-8")
+    code, err = run_quietly(["import-ross", str(cut), "--out", str(tmp_path / "model.toml")])
+    line = _one_line(err)
+    assert code == 2 and not (tmp_path / "model.toml").exists()
+    assert "material = '<missing>'" in line and "None" not in line
+    assert '["ShaftElement_Shaft Element 0".material]' in line and "cut short" in line
+
+
+def test_a_ross_version_older_than_the_readers_is_said(tmp_path):
+    """``ross_version = "0.3.0"`` (older than the 0.4 to 3.1 this reader was checked on) was read
+    without a word, while a newer one drew a warning."""
+    old = tmp_path / "old.toml"
+    old.write_text(ROSS.read_text(encoding="utf-8").replace('ross_version = "3.1.0"', 'ross_version = "0.3.0"'),
+                   encoding="utf-8")
+    code, err = run_quietly(["import-ross", str(old), "--out", str(tmp_path / "model.toml")])
+    assert code == 0 and (tmp_path / "model.toml").exists()
+    assert "ross_version = '0.3.0': older than the ROSS versions this reader was checked on (ROSS 0.4 to 3.1)" in err

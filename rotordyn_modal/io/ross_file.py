@@ -331,8 +331,9 @@ def _check_element_keys(source: str, elements: dict) -> None:
 
 
 def _warn_version(source: str, version) -> None:
-    """One warning line for a ``ross_version`` newer than :data:`ROSS_VERSIONS`' newest (its
-    saves may hold what this reader does not know), or that is no version number."""
+    """One warning line for a ``ross_version`` outside :data:`ROSS_VERSIONS` (a newer one's saves
+    may hold what this reader does not know, an older one's were never compared), or that is no
+    version number."""
     import re
 
     if version is None:
@@ -344,8 +345,9 @@ def _warn_version(source: str, version) -> None:
         warnings.warn(f"{shown_text(source)}: ross_version = {version!r}: no version number (e.g. '3.1.0'); "
                       f"read as a save of {tested}, the versions this reader was checked on (docs/ross.md)",
                       ModelWarning, stacklevel=3)
-    elif (int(found[1]), int(found[2])) > (major, minor):
-        warnings.warn(f"{shown_text(source)}: ross_version = {version!r}: newer than the ROSS versions this reader "
+    elif not (old_major, old_minor) <= (int(found[1]), int(found[2])) <= (major, minor):
+        side = "newer" if (int(found[1]), int(found[2])) > (major, minor) else "older"
+        warnings.warn(f"{shown_text(source)}: ross_version = {version!r}: {side} than the ROSS versions this reader "
                       f"was checked on ({tested}); read as their saves are: compare its totals and modes with "
                       "ROSS's (docs/ross.md)", ModelWarning, stacklevel=3)
 
@@ -498,6 +500,10 @@ def _tube(source: str, key: str, table: dict, materials: dict) -> dict:
 
 def _material(source: str, key: str, table, materials: dict) -> str:
     """Add the element's material to ``materials`` (once per distinct material); its name."""
+    if table is None:   # was 'material = None': ROSS writes the materials last, so a save cut short lacks them
+        raise ModelError(source, f"[{key}] material", "<missing>", f"a table [\"{key}\".material] with name, rho, E "
+                         "and G_s (Rotor.save writes one for each shaft element after all the elements: is the "
+                         "file cut short?)")
     if not isinstance(table, dict):
         raise ModelError(source, f"[{key}] material", table, "a table with name, rho, E and G_s")
     where = f"{key}.material"

@@ -110,3 +110,61 @@ def test_a_ross_version_older_than_the_readers_is_said(tmp_path):
     code, err = run_quietly(["import-ross", str(old), "--out", str(tmp_path / "model.toml")])
     assert code == 0 and (tmp_path / "model.toml").exists()
     assert "ross_version = '0.3.0': older than the ROSS versions this reader was checked on (ROSS 0.4 to 3.1)" in err
+
+
+# ------------------------------------------------------------------ ISO 21940-11 balance grades
+BASE = """
+name = "probe base"
+spin_axis = [1.0, 0.0, 0.0]
+
+[[materials]]
+name = "steel"
+density = 7810.0
+young_modulus = 2.11e11
+poisson_ratio = 0.3
+
+[[rotors]]
+name = "r"
+start = [0.0, 0.0, 0.0]
+
+[[rotors.shaft]]
+length = 0.5
+outer_diameter = 0.05
+material = "steel"
+
+[[bearings]]
+name = "b1"
+rotor = "r"
+axial_position = 0.0
+stiffness = 1e8
+
+[[bearings]]
+name = "b2"
+rotor = "r"
+axial_position = 0.5
+stiffness = 1e8
+
+[[unbalances]]
+rotor = "r"
+axial_position = 0.25
+"""
+
+
+@pytest.mark.parametrize("typed, meant", [('"G2,5"', "G2.5"), ('"6,3"', "G6.3"), ('"2.5"', "G2.5")])
+def test_a_grade_with_a_decimal_comma_or_without_its_g_names_the_grade_meant(tmp_path, typed, meant):
+    """``grade = "G2,5"`` (a decimal comma, as written in much of Europe) or the number as text
+    was refused listing the eleven grades, without the one meant."""
+    path = tmp_path / "m.toml"
+    path.write_text(BASE + f"grade = {typed}\nservice_speed_rpm = 3000.0\n", encoding="utf-8")
+    code, err = run_quietly(["check", str(path)])
+    assert code == 2
+    assert f"grade = {typed.replace(chr(34), chr(39))}" in _one_line(err)
+    assert f"did you mean '{meant}'?" in err
+
+
+@pytest.mark.parametrize("typed", ['"G3"', '"G0"', "-2.5", '"G2.5 mm/s"'])
+def test_a_grade_that_is_none_of_the_eleven_suggests_none(tmp_path, typed):
+    path = tmp_path / "m.toml"
+    path.write_text(BASE + f"grade = {typed}\nservice_speed_rpm = 3000.0\n", encoding="utf-8")
+    code, err = run_quietly(["check", str(path)])
+    assert code == 2 and "did you mean" not in _one_line(err)

@@ -168,3 +168,39 @@ def test_a_grade_that_is_none_of_the_eleven_suggests_none(tmp_path, typed):
     path.write_text(BASE + f"grade = {typed}\nservice_speed_rpm = 3000.0\n", encoding="utf-8")
     code, err = run_quietly(["check", str(path)])
     assert code == 2 and "did you mean" not in _one_line(err)
+
+
+# ------------------------------------------------------------------ keys of other codes
+@pytest.mark.parametrize("table, typed, meant", [
+    ("[rotors.r.shaft.0]", "diameter", "outer_diameter"),      # the plain word
+    ("[rotors.r.shaft.0]", "L", "length"),                     # ROSS's ShaftElement
+    ("[rotors.r.shaft.0]", "odl", "outer_diameter"),
+    ("[materials.steel]", "E", "young_modulus"),               # ROSS's Material
+    ("[materials.steel]", "rho", "density"),
+    ("[materials.steel]", "nu", "poisson_ratio"),
+    ("[bearings.b1]", "kxx", "stiffness"),                     # ROSS's BearingElement
+    ("[rotors.r]", "element_size", "element_length"),
+])
+def test_a_key_as_another_code_names_it_gets_the_key_meant(tmp_path, table, typed, meant):
+    """A ROSS user writing a model file by hand types ROSS's names (``E = 2.11e11``, ``L = 0.5``,
+    ``kxx = 1e8``) and anyone may type a shaft's ``diameter``: refused as unknown keys with no
+    key meant (difflib's similarity of ``diameter`` to ``outer_diameter`` is 0.73, below 0.75)."""
+    replaced = {"diameter": ("outer_diameter = 0.05", "diameter = 0.05"), "L": ("length = 0.5", "L = 0.5"),
+                "odl": ("outer_diameter = 0.05", "odl = 0.05"), "E": ("young_modulus =", "E ="),
+                "rho": ("density =", "rho ="), "nu": ("poisson_ratio =", "nu ="),
+                "kxx": ("stiffness = 1e8", "kxx = 1e8"),
+                "element_size": ('start = [0.0, 0.0, 0.0]', 'start = [0.0, 0.0, 0.0]\nelement_size = 0.05')}[typed]
+    path = tmp_path / "m.toml"
+    path.write_text((BASE + "amount = 1e-4\n").replace(*replaced, 1), encoding="utf-8")
+    code, err = run_quietly(["check", str(path)])
+    line = _one_line(err)
+    assert code == 2 and f"{table} {typed} = " in line
+    assert line.endswith(f"(unknown key; did you mean '{meant}'?)")
+
+
+def test_another_codes_name_is_offered_only_where_the_table_has_the_key_meant():
+    from rotordyn_modal.model._table import close_key
+
+    assert close_key("E", ["name", "density", "young_modulus"]) == "young_modulus"
+    assert close_key("E", ["stiffness", "damping"]) is None          # a bearing has no modulus
+    assert close_key("m", ["name", "axial_position"]) is None

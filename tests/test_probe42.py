@@ -204,3 +204,17 @@ def test_another_codes_name_is_offered_only_where_the_table_has_the_key_meant():
     assert close_key("E", ["name", "density", "young_modulus"]) == "young_modulus"
     assert close_key("E", ["stiffness", "damping"]) is None          # a bearing has no modulus
     assert close_key("m", ["name", "axial_position"]) is None
+
+
+@pytest.mark.parametrize("old, new, where", [
+    ("n = 7\nscale_factor", "scale_factor", "[BearingElement_Bearing 1] n"),
+    ("n = 10\nm = 8.0", "m = 8.0", "[DiskElement_Disk 0] n"),
+    ("n = 3\naxial_force", "axial_force", "[ShaftElement_Shaft Element 3] n"),
+])
+def test_a_ross_element_without_its_node_says_the_node_is_missing(tmp_path, old, new, where):
+    """An element table without ``n`` was refused as ``n = None`` (Python's word for nothing)."""
+    path = tmp_path / "no_n.toml"
+    path.write_text(ROSS.read_text(encoding="utf-8").replace(old, new, 1), encoding="utf-8")
+    code, err = run_quietly(["import-ross", str(path), "--out", str(tmp_path / "model.toml")])
+    line = _one_line(err)
+    assert code == 2 and f"{where} = '<missing>': expected " in line and "None" not in line

@@ -398,7 +398,7 @@ def _shaft(source: str, shafts: list, materials: dict) -> tuple[list, str, list]
     spans: dict[int, list] = {}
     shears = {}
     for key, table in shafts:
-        n = table.get("n")
+        n = table.get("n", "<missing>")     # was shown as 'n = None'
         if isinstance(n, bool) or not isinstance(n, int) or n < 0:
             raise ModelError(source, f"[{key}] n", n, "the element's first node, an integer >= 0")
         spans.setdefault(n, []).append((key, table))
@@ -541,7 +541,7 @@ def _elastic(source: str, where: str, table: dict) -> dict:
 
 
 def _node(source: str, key: str, table: dict, node_z: list) -> float:
-    n = table.get("n")
+    n = table.get("n", "<missing>")         # was shown as 'n = None'
     if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n < len(node_z):
         raise ModelError(source, f"[{key}] n", n, f"a node of the shaft, 0..{len(node_z) - 1}")
     return node_z[n]

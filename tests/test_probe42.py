@@ -218,3 +218,15 @@ def test_a_ross_element_without_its_node_says_the_node_is_missing(tmp_path, old,
     code, err = run_quietly(["import-ross", str(path), "--out", str(tmp_path / "model.toml")])
     line = _one_line(err)
     assert code == 2 and f"{where} = '<missing>': expected " in line and "None" not in line
+
+
+# ------------------------------------------------------------------ --units before and after
+def test_two_unit_systems_before_and_after_the_sub_command_are_refused():
+    """``rotordyn-modal --units us static M --units si`` printed SI (the later won) without a
+    word, while an option given twice in one place is refused; a system given twice alike stands."""
+    code, err = run_quietly(["--units", "us", "static", str(COMPRESSOR), "--units", "si", "--quiet"])
+    assert code == 2
+    assert _one_line(err).startswith("rotordyn-modal static: error: --units given twice ('us' before the "
+                                     "sub-command, then 'si'): give it once")
+    code, err = run_quietly(["--units", "us", "static", str(COMPRESSOR), "--units", "US", "--quiet"])
+    assert code == 0, err

@@ -48,11 +48,22 @@ class _Parser(argparse.ArgumentParser):
         the sub-commands that take such an option, or the option of this one it is a typo of;
         argparse's own refusal named neither (``rotordyn-modal: error: unrecognized arguments``)."""
         parsed, extras = self.parse_known_args(args, namespace)
+        commands = self._subparsers._group_actions[0].choices if self._subparsers else {}
+        sub = commands.get(getattr(parsed, "command", None))
         if extras:
-            commands = self._subparsers._group_actions[0].choices if self._subparsers else {}
-            sub = commands.get(getattr(parsed, "command", None))
             (sub or self).error(f"unrecognized arguments: {' '.join(extras)}{_unrecognized_hint(extras, sub, commands)}")
+        if sub is not None:
+            self._refuse_two_values(sub)
         return parsed
+
+    def _refuse_two_values(self, sub) -> None:
+        """An option given before the sub-command and again after it with another value
+        (``--units us static M --units si``) is refused as one given twice in one place is
+        (:class:`_StoreOnce`); the value after it won without a word."""
+        for dest in self.values_given.keys() & sub.values_given.keys():
+            (before, spelling), (after, _) = self.values_given[dest], sub.values_given[dest]
+            if str(before).strip().lower() != str(after).strip().lower():
+                sub.error(f"{spelling} given twice ({before!r} before the sub-command, then {after!r}): give it once")
 
     def error(self, message):  # usage errors: one line (no usage block before it), exit 2
         if message.startswith("one of the arguments ") and " " not in message[21:-12]:  # a required option

@@ -230,3 +230,31 @@ def test_two_unit_systems_before_and_after_the_sub_command_are_refused():
                                      "sub-command, then 'si'): give it once")
     code, err = run_quietly(["--units", "us", "static", str(COMPRESSOR), "--units", "US", "--quiet"])
     assert code == 0, err
+
+
+# ------------------------------------------------------------------ Level I stations named by a disk
+@pytest.mark.parametrize("command, extra, units, scale", [
+    ("level1", [], "si", 1.0),
+    ("level1", ["--units", "us"], "us", 0.0254),
+    ("report", ["--standard", "api617", "--out", "r.html"], "si", 1.0),
+])
+def test_a_station_named_by_its_disk_gets_the_offset_to_type(tmp_path, monkeypatch, command, extra, units, scale):
+    """``--station compressor@impeller-1`` (the impeller as the model names it: API 617 puts Qa at
+    the impellers) said only 'expected ROTOR or ROTOR@OFFSET (OFFSET in m ... from the rotor's
+    centre of mass)': the user had to work out the impeller's offset from a centre of mass the
+    file does not give. The refusal now gives the OFFSET, which puts the station on the disk."""
+    import re
+
+    import rotordyn_modal as rdm
+
+    monkeypatch.chdir(tmp_path)
+    code, err = run_quietly([command, str(COMPRESSOR), "--mcs", "9000", "--station", "compressor@impeller-1",
+                             "--qa", "1e5", "--quiet", *extra])
+    line = _one_line(err)
+    assert code == 2 and line.startswith(f"rotordyn-modal {command}: error: --station 'compressor@impeller-1': ")
+    offset = float(re.search(r"--station compressor@(\S+)$", line)[1]) * scale
+    model = rdm.load_model(COMPRESSOR)
+    rotor = model.rotor("compressor")
+    centre_from_start = float((rotor.center_of_mass - rotor.start) @ model.spin_axis)
+    assert abs(centre_from_start + offset - 0.30) < 1e-6        # impeller-1's axial_position in the file
+    assert not (tmp_path / "r.html").exists()

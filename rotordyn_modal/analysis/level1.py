@@ -440,6 +440,24 @@ def _shares(shares, count):
     return values / values.sum()
 
 
+def disk_offset_hint(model, text: str, units: str = "si") -> str:
+    """The end of the refusal of a station ``ROTOR@NAME`` whose NAME is no number but one of the
+    flexible rotor's disks (an impeller, named as the model names it): the OFFSET to type
+    instead, ``"; disk 'impeller-1' of rotor 'compressor' is at OFFSET -0.283265 m from its centre
+    of mass: --station compressor@-0.283265"``, in the length unit of ``units`` (m; in for 'us');
+    ``""`` when NAME is none of its disks."""
+    rotor_name, _, name = str(text).rpartition("@")
+    rotor = next((r for r in model.rotors if r.name == rotor_name), None)
+    disk = next((d for d in (getattr(rotor, "disks", None) or ()) if str(d.get("name")) == name.strip()), None)
+    if disk is None:
+        return ""
+    axis = np.asarray(model.spin_axis, dtype=float)
+    centre = float((np.asarray(rotor.center_of_mass, dtype=float) - np.asarray(rotor.start, dtype=float)) @ axis)
+    offset = to_system(float(disk["axial_position"]) - centre, "length", units)
+    return (f"; disk {name.strip()!r} of rotor {rotor_name!r} is at OFFSET {offset:.6g} {unit_label('length', units)} "
+            f"from its centre of mass: --station {rotor_name}@{offset:.6g}")
+
+
 def _check_stations(model, stations):
     """Each station's rotor exists and moves in bearings of its own."""
     names = [r.name for r in model.rotors]

@@ -130,10 +130,7 @@ def gas_density(args):
 def run(args) -> int:
     from ..analysis.level1 import Station, level1
 
-    try:
-        stations = [Station.parse(text) for text in args.station]
-    except InputError as error:     # "station 'fan@': ..." said of the option
-        raise InputError(f"--{error}") from None
+    stations = parse_stations(args)
     if args.units != "si":      # ROTOR@OFFSET: the offset in in
         stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", args.units)) for s in stations]
     speed = mcs_option(args, signed=True)    # the check report makes (there > 0)
@@ -185,6 +182,23 @@ def _mode_line(run, result, scale, unit) -> str:
     return (f"forward mode {run.forward_mode}: {_at_zero(run, '{}, {:.5g} Hz at Q = 0, ', ', ')}"
             f"log dec at Qa {run.log_decrement_at_qa:.3g}, {q0}" + (f" (governs {' and '.join(governs)})"
                                                                      if governs else ""))
+
+
+def parse_stations(args) -> list:
+    """The --station options as :class:`~rotordyn_modal.analysis.level1.Station`; one that is not
+    ROTOR[@OFFSET] is refused as the option, and where its OFFSET names a disk of the rotor
+    (``compressor@impeller-1``) the refusal gives that disk's OFFSET to type (the model is read
+    for it)."""
+    from ..analysis.level1 import Station, disk_offset_hint
+
+    stations = []
+    for text in args.station:
+        try:
+            stations.append(Station.parse(text))
+        except InputError as error:     # "station 'fan@': ..." said of the option
+            hint = disk_offset_hint(open_model(args), text, args.units or "si") if "@" in text else ""
+            raise InputError(f"--{error}{hint}") from None
+    return stations
 
 
 def anticipated(args, count, speed):

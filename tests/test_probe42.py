@@ -258,3 +258,12 @@ def test_a_station_named_by_its_disk_gets_the_offset_to_type(tmp_path, monkeypat
     centre_from_start = float((rotor.center_of_mass - rotor.start) @ model.spin_axis)
     assert abs(centre_from_start + offset - 0.30) < 1e-6        # impeller-1's axial_position in the file
     assert not (tmp_path / "r.html").exists()
+
+
+def test_a_malformed_station_says_the_offset_unit_the_option_is_read_in():
+    """With --units us the OFFSET of ``--station ROTOR@OFFSET`` is read in inches, and the
+    refusal of ``compressor@`` said 'OFFSET in m'."""
+    for units, unit in (("us", "in"), ("si", "m")):
+        code, err = run_quietly(["level1", str(COMPRESSOR), "--mcs", "9000", "--station", "compressor@",
+                                 "--qa", "1e5", "--units", units])
+        assert code == 2 and f"ROTOR@OFFSET (OFFSET [{unit}] along spin_axis" in _one_line(err)

@@ -72,16 +72,17 @@ class Station:
     offset: float = 0.0
 
     @classmethod
-    def parse(cls, text: str) -> "Station":
-        """``ROTOR`` or ``ROTOR@OFFSET`` (offset in m along ``spin_axis`` from its centre of mass)."""
+    def parse(cls, text: str, units: str = "si") -> "Station":
+        """``ROTOR`` or ``ROTOR@OFFSET`` (offset in m along ``spin_axis`` from its centre of mass;
+        ``units`` names the length unit the refusal says the command line reads it in: in for 'us')."""
         rotor, at, offset = str(text).rpartition("@") if "@" in str(text) else (str(text), "", "0")
         try:
             value = float(offset)
         except ValueError:
             value = float("nan")
         if not rotor or not np.isfinite(value):
-            raise InputError(f"station {text!r}: expected ROTOR or ROTOR@OFFSET (OFFSET in m along spin_axis from "
-                             "the rotor's centre of mass)")
+            raise InputError(f"station {text!r}: expected ROTOR or ROTOR@OFFSET (OFFSET [{unit_label('length', units)}] "
+                             "along spin_axis from the rotor's centre of mass)")
         return cls(rotor, value)
 
     def point(self, model) -> np.ndarray:

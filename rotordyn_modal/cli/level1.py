@@ -194,7 +194,7 @@ def parse_stations(args) -> list:
     stations = []
     for text in args.station:
         try:
-            stations.append(Station.parse(text))
+            stations.append(Station.parse(text, args.units or "si"))
         except InputError as error:     # "station 'fan@': ..." said of the option
             hint = disk_offset_hint(open_model(args), text, args.units or "si") if "@" in text else ""
             raise InputError(f"--{error}{hint}") from None

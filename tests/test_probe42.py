@@ -267,3 +267,15 @@ def test_a_malformed_station_says_the_offset_unit_the_option_is_read_in():
         code, err = run_quietly(["level1", str(COMPRESSOR), "--mcs", "9000", "--station", "compressor@",
                                  "--qa", "1e5", "--units", units])
         assert code == 2 and f"ROTOR@OFFSET (OFFSET [{unit}] along spin_axis" in _one_line(err)
+
+
+@pytest.mark.parametrize("typed", ["Steel", "steel ", "STEEL"])
+def test_a_material_named_in_other_case_or_with_blanks_gets_the_name_meant(tmp_path, typed):
+    """``material = "Steel"`` (ROSS's materials are often capitalised) beside ``[[materials]] name =
+    "steel"`` was refused listing the names, without saying which was meant."""
+    path = tmp_path / "m.toml"
+    path.write_text((BASE + "amount = 1e-4\n").replace('material = "steel"', f'material = "{typed}"'), encoding="utf-8")
+    code, err = run_quietly(["check", str(path)])
+    line = _one_line(err)
+    assert code == 2 and f"[rotors.r.shaft.0] material = '{typed}'" in line
+    assert line.endswith("(did you mean 'steel'?)")

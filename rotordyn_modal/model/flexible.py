@@ -247,8 +247,10 @@ def _pair(table: Table, key: str, default=None):
 def _material(table: Table, key: str, known) -> Material:
     name = table.text(key, required=True)
     if name not in known:
+        alike = [k for k in known if k.strip().casefold() == name.strip().casefold()]   # 'Steel', 'steel '
         raise table.error(key, name, "the name of one of the [[materials]] "
-                          + (visible_names(known) or "(none defined: add a [[materials]] table)"))
+                          + (visible_names(known) or "(none defined: add a [[materials]] table)")
+                          + (f" (did you mean {alike[0]!r}?)" if len(alike) == 1 else ""))
     return known[name]
 
 

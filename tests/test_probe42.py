@@ -279,3 +279,28 @@ def test_a_material_named_in_other_case_or_with_blanks_gets_the_name_meant(tmp_p
     line = _one_line(err)
     assert code == 2 and f"[rotors.r.shaft.0] material = '{typed}'" in line
     assert line.endswith("(did you mean 'steel'?)")
+
+
+# ------------------------------------------------------------------ a disk wider than its shaft
+@pytest.mark.parametrize("width", ["2.0", "50.0"])
+def test_a_disk_wider_than_its_whole_shaft_draws_a_warning(tmp_path, width):
+    """``width = 50`` (50 mm typed for m) or 2 m on a 0.5 m shaft was taken without a word: the
+    disk then spanned the whole shaft and far past both its ends."""
+    disk = ('\n[[rotors.disks]]\nname = "d"\naxial_position = 0.25\nmass = 10.0\npolar_inertia = 0.05\n'
+            f'diametral_inertia = 0.03\nwidth = {width}\n')
+    path = tmp_path / "m.toml"
+    text = BASE + "amount = 1e-4\n"
+    path.write_text(text.replace("[[bearings]]", disk + "\n[[bearings]]", 1), encoding="utf-8")
+    code, err = run_quietly(["check", str(path)])
+    assert code == 0
+    line = _one_line(err)
+    assert f"[rotors.r.disks.d] width = {float(width):g}: wider than the whole shaft it sits on (0.5 m long)" in line
+
+
+def test_a_disk_as_wide_as_its_shaft_draws_none(tmp_path):
+    disk = ('\n[[rotors.disks]]\nname = "d"\naxial_position = 0.25\nmass = 10.0\npolar_inertia = 0.05\n'
+            'diametral_inertia = 0.03\nwidth = 0.5\n')
+    path = tmp_path / "m.toml"
+    path.write_text((BASE + "amount = 1e-4\n").replace("[[bearings]]", disk + "\n[[bearings]]", 1), encoding="utf-8")
+    code, err = run_quietly(["check", str(path)])
+    assert code == 0 and "wider" not in err

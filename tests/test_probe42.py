@@ -304,3 +304,12 @@ def test_a_disk_as_wide_as_its_shaft_draws_none(tmp_path):
     path.write_text((BASE + "amount = 1e-4\n").replace("[[bearings]]", disk + "\n[[bearings]]", 1), encoding="utf-8")
     code, err = run_quietly(["check", str(path)])
     assert code == 0 and "wider" not in err
+
+
+# ------------------------------------------------------------------ static: a speed-dependent bearing
+def test_static_of_journals_without_a_speed_names_the_option():
+    """``static`` of a rotor on journal bearings without ``--speed`` said 'give the operating
+    speed', naming no option (the command's help calls it 'default: at rest')."""
+    code, err = run_quietly(["static", str(EXAMPLES / "compressor_on_journals.toml"), "--quiet"])
+    line = _one_line(err)
+    assert code == 2 and "[bearings.NDE]: its stiffness depends on speed" in line and "--speed" in line

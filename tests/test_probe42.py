@@ -313,3 +313,15 @@ def test_static_of_journals_without_a_speed_names_the_option():
     code, err = run_quietly(["static", str(EXAMPLES / "compressor_on_journals.toml"), "--quiet"])
     line = _one_line(err)
     assert code == 2 and "[bearings.NDE]: its stiffness depends on speed" in line and "--speed" in line
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--qa", "0"], "--qa '0': expected values > 0 [lbf/in]"),
+    ([], "give --qa lbf/in, or --rated-power"),
+])
+def test_a_qa_refused_under_us_units_names_lbf_per_in(extra, words):
+    """With --units us --qa is read in lbf/in (level1's and report's help), and its refusals
+    said '[N/m]' and 'give --qa N/m'."""
+    code, err = run_quietly(["level1", str(COMPRESSOR), "--mcs", "9000", "--station", "compressor", "--units", "us",
+                             *extra])
+    assert code == 2 and words in _one_line(err)

@@ -225,11 +225,11 @@ def anticipated_stages(args, count, speed):
                              "gives Qa without it")
         values = from_system(parse_list(args.qa, "--qa"), "stiffness", args.units)
         if not np.all(values > 0):
-            raise InputError(f"--qa {args.qa!r}: expected values > 0 [N/m]")
+            raise InputError(f"--qa {args.qa!r}: expected values > 0 [{unit_scale('stiffness', args.units)[1]}]")
         return (*_spread(values, count, "--qa"), None)
     if any(o is None for o in stage_options):
-        raise InputError("give --qa N/m, or --rated-power, --impeller-diameter and --restriction-height (one per "
-                         "stage)")
+        raise InputError(f"give --qa {unit_scale('stiffness', args.units)[1]}, or {power_option}, --impeller-diameter "
+                         "and --restriction-height (one per stage)")
     power, diameter, height = (from_system(parse_list(o, name), kind, args.units) for o, name, kind in zip(
         stage_options, (power_option, "--impeller-diameter", "--restriction-height"), ("power", "length", "length")))
     if args.density_ratio is not None and args.machine == "turbine":   # was dropped without a word

@@ -325,3 +325,19 @@ def test_a_qa_refused_under_us_units_names_lbf_per_in(extra, words):
     code, err = run_quietly(["level1", str(COMPRESSOR), "--mcs", "9000", "--station", "compressor", "--units", "us",
                              *extra])
     assert code == 2 and words in _one_line(err)
+
+
+@pytest.mark.parametrize("model, station, words", [
+    (COMPRESSOR, "compressor@500", ("OFFSET = 500 in", "OFFSET from -22.9632 to 24.2809 in")),
+    (EXAMPLES / "fan_on_bearings.toml", "fan@500", ("OFFSET = 500 in", " in (its extent along spin_axis")),
+])
+def test_a_station_off_its_rotor_under_us_units_is_refused_in_inches(model, station, words):
+    """``--units us --station compressor@500`` (500 in) was refused as 'OFFSET = 12.7 m: expected
+    ... OFFSET from -0.583265 to 0.616735 m': neither the value typed nor the option's unit.
+    The range in inches is the shaft's, from the file: the centre of mass 0.583265 m from the
+    start of the 1.2 m shaft, 1 in = 0.0254 m."""
+    code, err = run_quietly(["level1", str(model), "--mcs", "3000", "--station", station, "--qa", "1e3",
+                             "--units", "us"])
+    line = _one_line(err)
+    assert code == 2 and all(w in line for w in words), line
+    assert -0.583265 / 0.0254 == pytest.approx(-22.9632, abs=1e-4) and 0.616735 / 0.0254 == pytest.approx(24.2809, abs=1e-4)

@@ -19,7 +19,7 @@ along a forward (with the spin) whirl orbit, and feeds it. For a rotor spinning 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.optimize import brentq
@@ -70,6 +70,8 @@ class Station:
 
     rotor: str
     offset: float = 0.0
+    #: the unit system its OFFSET was typed in ('si': m, 'us': in): a refusal says lengths in it
+    units: str = field(default="si", compare=False)
 
     @classmethod
     def parse(cls, text: str, units: str = "si") -> "Station":
@@ -502,10 +504,20 @@ def _check_on_shaft(model, station):
     slack = STATION_TOLERANCE * (1.0 + length)
     if not -slack <= z <= length + slack:
         centre = shaft.z_of(model.rotor(station.rotor).center_of_mass)
-        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {station.offset:.6g} m: expected a point on "
-                         f"rotor {station.rotor!r}'s shaft, OFFSET from {-centre:.6g} to {length - centre:.6g} m "
-                         f"(the shaft runs 0 to {length:g} m from its start, its centre of mass at {centre:.6g} m; "
-                         f"this OFFSET is at {z:.6g} m)")
+        shown = _lengths(station.units)
+        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {shown(station.offset)}: expected a point on "
+                         f"rotor {station.rotor!r}'s shaft, OFFSET from {shown(-centre, bare=True)} to {shown(length - centre)} "
+                         f"(the shaft runs 0 to {shown(length)} from its start, its centre of mass at {shown(centre)}; "
+                         f"this OFFSET is at {shown(z)})")
+
+
+def _lengths(units: str):
+    """A length [m] as a refusal shows it in ``units``: with its unit (``'0.583265 m'``,
+    ``'22.9632 in'``), or the number alone with ``bare=True`` (a range's first end)."""
+    def shown(value, bare: bool = False) -> str:
+        number = f"{to_system(value, 'length', units):.6g}"
+        return number if bare else f"{number} {unit_label('length', units)}"
+    return shown
 
 
 def _rigid_extent(model, name: str) -> tuple[float, float]:
@@ -531,8 +543,9 @@ def _check_on_rigid(model, station):
     low, high = _rigid_extent(model, station.rotor)
     slack = 1e-6 * (1.0 + high - low)
     if not low - slack <= station.offset <= high + slack:
-        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {station.offset:.6g} m: expected a point on "
-                         f"rigid rotor {station.rotor!r}, OFFSET from {low:.6g} to {high:.6g} m (its extent along "
+        shown = _lengths(station.units)
+        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {shown(station.offset)}: expected a point on "
+                         f"rigid rotor {station.rotor!r}, OFFSET from {shown(low, bare=True)} to {shown(high)} (its extent along "
                          "spin_axis from its centre of mass: its bearings, the points the model places on it, "
                          "and a slender rod of its mass and diametral inertia)")
 

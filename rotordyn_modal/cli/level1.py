@@ -132,7 +132,7 @@ def run(args) -> int:
 
     stations = parse_stations(args)
     if args.units != "si":      # ROTOR@OFFSET: the offset in in
-        stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", args.units)) for s in stations]
+        stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", args.units), units=args.units) for s in stations]
     speed = mcs_option(args, signed=True)    # the check report makes (there > 0)
     qa, shares = anticipated(args, len(stations), speed)
     factor = parse_number(args.factor, "--factor")

@@ -159,7 +159,7 @@ def _inputs(args):
     if args.station:
         stations = parse_stations(args)
         if units != "si":      # ROTOR@OFFSET: the offset in in, as in 'level1'
-            stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", units)) for s in stations]
+            stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", units), units=units) for s in stations]
         qa, shares, stages = anticipated_stages(args, len(stations), mcs)
         level1 = {"stations": stations, "qa": qa, "shares": shares, "gas_density": gas_density(args),
                   "stages": stages}

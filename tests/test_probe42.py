@@ -341,3 +341,14 @@ def test_a_station_off_its_rotor_under_us_units_is_refused_in_inches(model, stat
     line = _one_line(err)
     assert code == 2 and all(w in line for w in words), line
     assert -0.583265 / 0.0254 == pytest.approx(-22.9632, abs=1e-4) and 0.616735 / 0.0254 == pytest.approx(24.2809, abs=1e-4)
+
+
+def test_a_ross_table_with_its_speeds_under_another_key_names_that_key(tmp_path):
+    """``speed_rpm = [...]`` for ``speed`` (difflib 0.71 from it, no near miss) was refused on
+    ``mxx ... one per speed of [...] speed, which the table lacks`` without naming the key that
+    held the speeds."""
+    path = tmp_path / "speed_rpm.toml"
+    path.write_text(ROSS.read_text(encoding="utf-8").replace("speed = [", "speed_rpm = [", 1), encoding="utf-8")
+    code, err = run_quietly(["import-ross", str(path), "--out", str(tmp_path / "model.toml")])
+    line = _one_line(err)
+    assert code == 2 and "speed, which the table lacks (it has 'speed_rpm', not read here" in line

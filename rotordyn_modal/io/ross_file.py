@@ -604,7 +604,10 @@ def _coefficient_tables(source: str, key: str, table: dict) -> tuple[list, dict]
     if any(b <= a for a, b in zip(speeds, speeds[1:])):
         raise ModelError(source, f"[{key}] {axes[0]}", axis, "strictly increasing speeds [rad/s]")
     count = len(speeds) or 1
-    axis_text = f"[{key}] {axes[0]} = {axis!r} [rad/s]" if axes else f"[{key}] speed, which the table lacks"
+    stray = [name for name in table if name not in _BEARING_KEYS]     # 'speed_rpm' for 'speed' went unnamed
+    axis_text = f"[{key}] {axes[0]} = {axis!r} [rad/s]" if axes else f"[{key}] speed, which the table lacks" + (
+        f" (it has {', '.join(map(repr, stray[:3]))}{', ...' if len(stray) > 3 else ''}, not read here: the speeds "
+        "go in 'speed' [rad/s])" if stray else "")
     for name in _MASS_COEFFICIENTS:
         if any(v != 0.0 for v in _values(source, key, table, name, count, axis_text)):
             raise ModelError(source, f"[{key}] {name}", table[name], "0: bearing mass coefficients are not modelled")

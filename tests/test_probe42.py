@@ -352,3 +352,15 @@ def test_a_ross_table_with_its_speeds_under_another_key_names_that_key(tmp_path)
     code, err = run_quietly(["import-ross", str(path), "--out", str(tmp_path / "model.toml")])
     line = _one_line(err)
     assert code == 2 and "speed, which the table lacks (it has 'speed_rpm', not read here" in line
+
+
+@pytest.mark.parametrize("units, shown", [("si", "-0.283265 m"), ("us", "-11.1522 in")])
+def test_a_disk_given_as_the_stations_rotor_gets_the_station_to_type(units, shown):
+    """``--station impeller-1`` (the impeller alone, as a rotor) said only 'no rotor
+    'impeller-1': the model's rotors are compressor'. -11.1522 in = -0.283265 m / 0.0254."""
+    code, err = run_quietly(["level1", str(COMPRESSOR), "--mcs", "9000", "--station", "impeller-1", "--qa", "1e5",
+                             "--units", units])
+    line = _one_line(err)
+    assert code == 2 and "no rotor 'impeller-1'" in line
+    assert f"disk 'impeller-1' of rotor 'compressor' is at OFFSET {shown} from its centre of mass" in line
+    assert -0.283265 / 0.0254 == pytest.approx(-11.1522, abs=1e-4)

@@ -468,7 +468,9 @@ def _check_stations(model, stations):
         if station.rotor not in names:
             known = f"the model's rotors are {', '.join(names)}" if names else \
                 "the model has no [[rotors]]: a Level I analysis needs a rotor in bearings"
-            raise InputError(f"station {station}: no rotor {station.rotor!r}: {known}")
+            hint = next((h for r in model.rotors if (h := disk_offset_hint(model, f"{r.name}@{station.rotor}",
+                                                                             station.units))), "")
+            raise InputError(f"station {station}: no rotor {station.rotor!r}: {known}{hint}")
         if not model.dofs.on_bearings(station.rotor):
             raise InputError(f"station {station}: rotor {station.rotor!r} has no bearings (it is rigidly attached to "
                              "the stator): cross-coupling needs a rotor moving in its bearings")

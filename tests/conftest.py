@@ -108,7 +108,9 @@ def ucs_figure():
     given), mapped and plotted once per worker. The plot (its labels' placement) is most of the
     time of the tests that measure one map's figure, and some measure the same figure
     (test_figures33 and test_figures35: the fan with every bearing; test_figure_audit27p and
-    test_figure_audit27r: the fan's bearings by default). The figure comes on a canvas of its
+    test_figure_audit27r: the fan's bearings by default; test_ucs32 and test_figure_audit30:
+    flexible_pump_on_mounts over 1e5 .. 1e10 N/m in 41 values, whose map test_figures33 plots
+    in both systems). The figure comes on a canvas of its
     own (a figure pyplot closed has none); the tests set its dpi, draw it and measure it, and
     change nothing else (drawn again, its texts' boxes are the same to the last bit)."""
     import numpy as np

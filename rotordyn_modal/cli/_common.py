@@ -668,7 +668,7 @@ def add_outputs(parser, table: bool = True, plot: bool = True, out_endings=(".cs
         parser.set_defaults(out_endings=tuple(out_endings))
     if plot:
         add_output_file(parser, "--plot", metavar="FILE.png|FILE.svg|FILE.pdf", help="draw the figure to this file")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar, no table on the terminal")
+    parser.add_argument("--quiet", action="store_true", help="no progress (bars, or lines where stderr is a log), no table on the terminal")
 
 
 def add_allow_long(parser):
@@ -797,7 +797,10 @@ def check_ending(path, endings, option: str, stdout: bool = True):
 
 
 def show_progress(args) -> bool:
-    return not getattr(args, "quiet", False) and sys.stderr.isatty()
+    """Whether the command shows its progress: unless ``--quiet``. On a terminal as bars; where
+    stderr is a file or a pipe (a log, a batch job) as whole lines, the first after
+    :data:`.._progress.LOG_DELAY` s of work (shorter work writes nothing there)."""
+    return not getattr(args, "quiet", False)
 
 
 #: the start-up line of the estimate of the CPU time (a timed eigen-solution, the expected crossings)

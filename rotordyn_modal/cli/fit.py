@@ -52,7 +52,7 @@ def add_arguments(parser):
     parser.add_argument("--no-coherence", action="store_true", help="do not weight by coherence")
     add_output_file(parser, "--plot", metavar="FILE.png|FILE.svg|FILE.pdf",
                         help="overlay of the fitted model on the measurement at every speed")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar, no table on the terminal")
+    parser.add_argument("--quiet", action="store_true", help="no progress (bars, or lines where stderr is a log), no table on the terminal")
 
 
 def run(args) -> int:

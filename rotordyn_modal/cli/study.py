@@ -90,7 +90,7 @@ def add_arguments(parser):
     add_output_file(parser, "--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid (needs [analyses.stability])")
     add_output_file(parser, "--plot-sensitivity", metavar="FILE.png", help="sensitivity bar chart")
     add_allow_long(parser)
-    parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary on the terminal")
+    parser.add_argument("--quiet", action="store_true", help="no progress (bars, or lines where stderr is a log), no summary on the terminal")
     add_verbose(parser, "also: each chunk as it is computed or resumed, checkpoint files discarded, peak memory")
 
 

@@ -455,3 +455,52 @@ def sensor_groups(model) -> dict:
         return "shaft relative to the stator (probes)" if sensor.measure == "relative" else \
             "rotor points, absolute"
     return {s.name: title(s) for s in model.sensors}
+
+
+def with_bearing_probes(model):
+    """``model`` with an X-Y pair of proximity probes (``measure = "relative"``: the shaft's
+    motion relative to the stator point at the same place) at each bearing, where the model has
+    no ``[[sensors]]``: the stations where API 684 reads a rotor's unbalance response when the
+    machine's own probe positions are not given. Each pair measures along the two model axes
+    normal to the spin axis (the spin axis off them: two directions normal to it), named
+    ``"BEARING probe AXIS"`` (``"Bearing 0 probe x"``); placed as its bearing is (``position``,
+    or ``axial_position`` on a flexible rotor).
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    (Model, list of str)
+        The model with the probes (``model`` itself where it has sensors or no bearings), and
+        the probes' names (empty then).
+    """
+    if model.sensors or not model.bearings:
+        return model, []
+    data = model.to_dict()
+    probes = [dict(name=f"{bearing['name']} probe {label}", rotor=bearing["rotor"], direction=[float(v) for v in direction],
+                   measure="relative", **_station_of(bearing))
+              for bearing in data.get("bearings", []) for label, direction in _lateral_axes(model.spin_axis)]
+    data["sensors"] = probes
+    return Model.from_dict(data, model.source), [p["name"] for p in probes]
+
+
+def _station_of(bearing: dict) -> dict:
+    """The placing keys of a bearing's table (``axial_position`` on a flexible rotor, else ``position``)."""
+    return {key: bearing[key] for key in ("axial_position", "position") if key in bearing}
+
+
+def _lateral_axes(spin_axis):
+    """The two probe directions normal to ``spin_axis`` (3,), with their labels: the model axes
+    normal to it (``"x"``, ``"y"``, ``"z"``) where it lies along one, else ``"a"`` (the model axis
+    least along it, its part normal to the spin) and ``"b"`` (normal to both)."""
+    spin = np.asarray(spin_axis, dtype=float)
+    spin = spin / np.linalg.norm(spin)
+    along = np.abs(spin)
+    if np.isclose(along.max(), 1.0, rtol=0.0, atol=1e-12):
+        return [("xyz"[i], np.eye(3)[i]) for i in range(3) if i != int(np.argmax(along))]
+    first = np.eye(3)[int(np.argmin(along))]
+    first = first - (first @ spin) * spin
+    first /= np.linalg.norm(first)
+    return [("a", first), ("b", np.cross(spin, first))]

@@ -296,10 +296,15 @@ def _collected(model, inputs, progress) -> ReportData:
     if high > inputs.mcs * (1 + 1e-12):
         raise InputError(f"operating range {low!r}:{high!r} rad/s: expected its top at most the maximum continuous "
                          f"speed {inputs.mcs!r} rad/s (the top of the operating range)")
+    model, probes = _judged_at_bearings(model, inputs)
     refuse_long_work(model, inputs)          # before any section: one line with the estimate
     data = ReportData(inputs, model, model_summary(model), STANDARDS[inputs.standard])
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        if probes:
+            warnings.warn(f"the model has no [[sensors]]: the unbalance response is judged at X-Y proximity probes "
+                          f"placed at each bearing ({', '.join(probes)}); give [[sensors]] with measure = "
+                          "\"relative\" where the machine's probes are", stacklevel=2)
         if "level1" in data.sections:   # first: a bad --station is refused before the long work
             with phase(progress, f"report: {SECTIONS['level1']}"):
                 _level1(data)
@@ -809,6 +814,7 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     from ..analysis import _cost, _work
     from ..analysis.level1 import sweep_size, sweep_solutions
 
+    model, _ = _judged_at_bearings(model, inputs)      # the probes the report adds are judged too
     counts = _sweep_counts(model, inputs)
     speeds = inputs.speeds
     level1 = inputs.level1 if "level1" in STANDARDS[inputs.standard] else None
@@ -1435,6 +1441,19 @@ def _reason(error, model) -> str:
     Model section names it (its name, not the path of the machine that ran the report)."""
     source = str(getattr(model, "source", "") or "")
     return str(error).replace(source, Path(source).name) if source else str(error)
+
+
+def _judged_at_bearings(model, inputs):
+    """The model an API report judges, and the names of the probes it adds: a model without
+    ``[[sensors]]`` (every rotor read from ROSS) gets an X-Y pair of proximity probes at each
+    bearing (:func:`..analysis.unbalance_checks.with_bearing_probes`), where API 684 reads the
+    unbalance response, its amplification factors, separation margins and probe limits; an ISO
+    report judges the casing's own sensors and gets none."""
+    from ..analysis.unbalance_checks import with_bearing_probes
+
+    if inputs.standard == "iso":
+        return model, []
+    return with_bearing_probes(model)
 
 
 def _probe_limits(data):

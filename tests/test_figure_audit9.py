@@ -41,10 +41,14 @@ def test_a_jump_critical_speed_is_drawn_on_its_order_line_and_marked_uncertain(m
     crossing lies on it by definition; a jump's true crossing lies on it at that speed), within
     a pixel; the jump's marker is not the crossings' circle, has a legend entry of its own, and
     its label ends in '?'."""
+    from rotordyn_modal.analysis import campbell as campbell_module
     from rotordyn_modal.analysis import critical_speeds as critical_module
     from rotordyn_modal.plotting.campbell import plot_campbell
 
     monkeypatch.setattr(critical_module, "_SUB_DEPTH", 0)
+    # nor the tracking on a finer grid, which follows its modes without a jump: a large model's
+    # sweep, tracked on its own grid
+    monkeypatch.setattr(campbell_module, "_FINER_ROUNDS", 0)
     model = _jumping_machine()
     with pytest.warns(UserWarning, match="jumps of a tracked mode"):
         result = rdm.campbell(model, np.linspace(0.0, 3000.0, 21))

@@ -445,15 +445,9 @@ def solve_sweeps(stack, speeds, progress=False, whirl_noise=False):
     chunks = _batches.chunk_slices(len(speeds), count * 72 * size * size, largest=largest)
     values = shapes = noise = None
     for part in _progress(chunks, progress, "eigen-solve"):
-        chunk = speeds[part]
-        matrices = stack.sweep(chunk)
-        solved = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), _variant_rows(count, len(chunk)),
-                             whirl_noise)
-        del matrices
-        lam, phi = solved[0].reshape(count, len(chunk), -1), solved[1].reshape((count, len(chunk)) + solved[1].shape[-2:])
+        lam, phi, part_noise = _solved_at(stack, speeds[part], whirl_noise)
         if len(chunks) == 1:
-            values, shapes = lam, phi
-            noise = solved[2].reshape(lam.shape) if whirl_noise else None
+            values, shapes, noise = lam, phi, part_noise
         else:                       # each part into its place: no list of parts joined at the end (twice the shapes)
             if values is None:
                 values = np.empty((count, len(speeds)) + lam.shape[2:], dtype=lam.dtype)
@@ -461,13 +455,13 @@ def solve_sweeps(stack, speeds, progress=False, whirl_noise=False):
                 noise = np.empty(values.shape) if whirl_noise else None
             values[:, part], shapes[:, part] = lam, phi
             if whirl_noise:
-                noise[:, part] = solved[2].reshape(lam.shape)
-        del lam, phi, solved
+                noise[:, part] = part_noise
+        del lam, phi, part_noise
     # read by part where tracking and the critical speeds compare shapes (the rows of
     # Stack.weighted of the whole, bit for bit): not a second copy of every shape
     weighted = WeightedRows(stack, shapes)
     with phase(progress, "tracking modes"):         # a large model's tracking: tens of seconds
-        order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+        order = _tracked(stack, speeds, values, shapes, weighted)
         extra = (noise,) if whirl_noise else ()
         if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
             return (values, shapes, weighted) + extra
@@ -475,6 +469,76 @@ def solve_sweeps(stack, speeds, progress=False, whirl_noise=False):
         extra = (noise[variants, rows, order],) if whirl_noise else ()
         shapes = _reordered(shapes, order)
         return (values[variants, rows, order], shapes, weighted.reordered(order, shapes)) + extra
+
+
+def _solved_at(stack, speeds, whirl_noise=False):
+    """Every variant's eigen-solution at ``speeds`` (S,) [rad/s] in one batch: eigenvalues
+    (V, S, m), shapes (V, S, m, n) and (with ``whirl_noise``, else None) the whirl ratios'
+    round-off (V, S, m)."""
+    count = len(stack)
+    matrices = stack.sweep(speeds)
+    solved = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), _variant_rows(count, len(speeds)), whirl_noise)
+    del matrices
+    lam = solved[0].reshape(count, len(speeds), -1)
+    phi = solved[1].reshape((count, len(speeds)) + solved[1].shape[-2:])
+    return lam, phi, solved[2].reshape(lam.shape) if whirl_noise else None
+
+
+#: a sweep whose tracking doubts a step (:func:`.tracking.doubtful_steps`) is tracked again with
+#: a speed put in the middle of each such step, at most this many rounds (each halving them) ...
+_FINER_ROUNDS = 3
+#: ... where its state matrices have at most this many states (a dense solution of milliseconds)
+_FINER_STATES = 400
+#: ... and at most max(_FINER_LEAST, N // 2) speeds added to a sweep of N speeds
+_FINER_LEAST = 8
+
+
+def _tracked(stack, speeds, values, shapes, weighted):
+    """The tracking of a sweep (:func:`.tracking.track_modes_many`, numbered by
+    :func:`_relabel_by_frequency`): ``order`` (V, N, m).
+
+    Where a step of a small model's sweep leaves a mode's match in doubt (a grid too coarse for
+    the modes' changes, :func:`.tracking.doubtful_steps`), the modes are tracked again over the
+    sweep with speeds put inside those steps (:func:`_tracked_finer`), and the order at the
+    sweep's own speeds is taken from it: the mode numbers a 5-speed grid gives are those of a
+    fine one (``stability journal_rotor.toml --speeds 100:20000:5`` said "mode 4 loses
+    stability", every finer grid "mode 2"). Where no step is in doubt, the tracking is the
+    sweep's own, bit for bit."""
+    from .tracking import doubtful_steps
+
+    order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+    if stack.forms[0].n_states > _FINER_STATES or len(speeds) < 2:
+        return order
+    doubtful = doubtful_steps(values, weighted, order)
+    if not doubtful.any():
+        return order
+    return _tracked_finer(stack, speeds, values, shapes, order, doubtful)
+
+
+def _tracked_finer(stack, speeds, values, shapes, order, doubtful):
+    """:func:`_tracked` over the sweep with a speed added in the middle of each doubtful step
+    (V, N-1) of its tracking ``order`` (V, N, m), then in each step still in doubt,
+    :data:`_FINER_ROUNDS` rounds at most and max(:data:`_FINER_LEAST`, N // 2) speeds in all;
+    the order (V, N, m) at ``speeds`` (N,)."""
+    from .tracking import doubtful_steps
+
+    grid, own = np.asarray(speeds, dtype=float), np.ones(len(speeds), dtype=bool)
+    budget = max(_FINER_LEAST, len(speeds) // 2)
+    for _ in range(_FINER_ROUNDS):
+        steps = np.nonzero(doubtful.any(axis=0))[0][:budget]
+        budget -= len(steps)
+        if not len(steps):
+            break
+        added = 0.5 * (grid[steps] + grid[steps + 1])
+        lam, phi, _ = _solved_at(stack, added)
+        at = np.argsort(np.concatenate([grid, added]), kind="stable")
+        grid, own = np.concatenate([grid, added])[at], np.concatenate([own, np.zeros(len(added), dtype=bool)])[at]
+        values, shapes = np.concatenate([values, lam], axis=1)[:, at], np.concatenate([shapes, phi], axis=1)[:, at]
+        weighted = WeightedRows(stack, shapes)
+        # numbered at the sweep's own speed nearest zero, not at an added one
+        order = _relabel_by_frequency(track_modes_many(values, weighted, grid), values, np.where(own, grid, np.inf))
+        doubtful = doubtful_steps(values, weighted, order)
+    return order[:, own]
 
 
 #: a sweep of more work than this [bytes] shown by a progress bar is solved in at least

@@ -27,7 +27,7 @@ from ._batches import chunk_slices
 from ._vectors import mac_matrix
 from .modal import is_oscillating
 
-__all__ = ["track_modes", "track_modes_many"]
+__all__ = ["track_modes", "track_modes_many", "doubtful_steps"]
 
 _CONFIDENT_MAC = 0.8
 _EIGEN_WEIGHT_RELATIVE = 0.02
@@ -308,3 +308,41 @@ def _nature(values):
     pair, or a mode becomes overdamped, the root changes its nature: it is never kept in place
     (:func:`_kept_in_place`) but assigned."""
     return np.where(is_oscillating(values), 2, (values.imag != 0).astype(int))
+
+
+def doubtful_steps(eigenvalues: np.ndarray, shapes, order: np.ndarray) -> np.ndarray:
+    """The steps of a tracked sweep over which a mode's match is in doubt: a mode (an oscillating
+    root, :func:`.modal.is_oscillating`) at one speed whose tracked root at the next is no mode, or
+    whose shape there has a MAC of at most :data:`_CONFIDENT_MAC` with its own. A grid too coarse
+    for the modes' changes shows so (``journal_rotor.toml`` at 5 speeds from 100 to 20,000 rpm:
+    the cylindrical mode at 5,075 rpm was matched with an overdamped root at 10,050 rpm, the mode
+    that loses stability with a third label); a finer grid there resolves it
+    (:func:`.campbell._tracked`).
+
+    Parameters
+    ----------
+    eigenvalues : ndarray, shape (V, N, n), complex
+    shapes : ndarray or WeightedRows, shape (V, N, n, d)
+        Unit (mass-weighted) shapes.
+    order : ndarray of int, shape (V, N, n)
+        The tracking (:func:`track_modes_many`).
+
+    Returns
+    -------
+    ndarray of bool, shape (V, N-1)
+    """
+    variants, count, n = eigenvalues.shape
+    doubtful = np.zeros((variants, max(count - 1, 0)), dtype=bool)
+    if count < 2:
+        return doubtful
+    rows = np.arange(variants)[:, None, None]
+    tracked = eigenvalues[rows, np.arange(count)[None, :, None], order]
+    modes = is_oscillating(tracked)
+    for part in chunk_slices(count - 1, variants * 32 * n * shapes.shape[-1], budget=_MAC_BYTES):
+        k = np.arange(part.start, part.stop + 1)[None, :, None]
+        both = shapes[np.broadcast_to(rows, (variants, len(k[0]), n)), np.broadcast_to(k, (variants, len(k[0]), n)),
+                      order[:, part.start:part.stop + 1]]
+        mac = np.abs(np.sum(both[:, :-1].conj() * both[:, 1:], axis=-1)) ** 2          # (V, P, n)
+        here, there = modes[:, part.start:part.stop], modes[:, part.start + 1:part.stop + 1]
+        doubtful[:, part] = (here & (~there | (mac <= _CONFIDENT_MAC))).any(axis=-1)
+    return doubtful

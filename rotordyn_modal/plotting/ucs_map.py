@@ -162,6 +162,18 @@ def _place_labels_laid_out(ax, labels, first, count):
     from ._labels import place_point_labels
 
     renderer = _laid_out(ax.figure)
+    maps = {}
+
+    def curves():
+        # the curves as drawn stay where they are while labels are placed again and again (joins,
+        # pairs): one map for each place of the axes, its answers about leaders kept
+        # (:meth:`._labels.CurveMap.cut`, :meth:`._labels.CurveMap.runs_along`)
+        from ._labels import CurveMap
+
+        key = (float(ax.figure.dpi), tuple(ax.get_window_extent(renderer).extents.tolist()))
+        if key not in maps:
+            maps[key] = CurveMap(ax, renderer)
+        return maps[key]
 
     def place(touching, pairs=(), broken=()):
         groups = [[k] for k in range(first)] + _touching(ax, labels[first:first + count], first, touching) \
@@ -175,7 +187,7 @@ def _place_labels_laid_out(ax, labels, first, count):
         texts = [_shared_text(labels, g, set(g) & set(broken)) for g in groups]
         members = [[labels[k][:2] for k in g[1:]] for g in groups]
         drawn = place_point_labels(ax, anchors, texts, [labels[g[0]][3] for g in groups], renderer=renderer,
-                                   members=members)
+                                   curves=curves(), members=members)
         for text in drawn:
             _lead_to_nearest(ax, text, members[texts.index(text.get_text())], renderer)
             text.ucs_grouping = (touching, tuple(pairs), tuple(broken))      # how the kept labels were grouped
@@ -562,7 +574,7 @@ def _shorter_leaders(ax, drawn, points, members=None):
                 end = _nearest(place, anchor)
                 text.xy = point
                 text.xyann = ((place[0] - anchor[0]) / scale, (place[1] - anchor[1]) / scale)
-                text.arrowprops["relpos"] = ((end[0] - place[0]) / w, (end[1] - place[1]) / h)
+                _start_leader_at(text, ((end[0] - place[0]) / w, (end[1] - place[1]) / h))
                 fresh.discard(text)
 
 
@@ -576,8 +588,12 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests, group=None
     step at least) that is free (:func:`_shorter_leaders`), or None; all in pixels. ``group``
     (k, 2): the points the label names (``anchor`` among them), inside whose circles its leader
     may cross lines."""
+    from ._labels import LEADER_GAP_POINTS, runs_along_each, short_of_each, widened
+
     frame, segments, centres, radius, scale = scene
     crossing_pairs, crosses_segments = tests
+    gap = LEADER_GAP_POINTS * scale
+    wide_others = widened(others, gap)
     w, h = box[2] - box[0], box[3] - box[1]
     step, clear, line = _STEP_POINTS * scale, _CLEAR_POINTS * scale, _LINE_POINTS * scale
     reach = np.arange(-length - w, length + step, step)
@@ -604,8 +620,12 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests, group=None
         if len(centres[~own]) and np.hypot(*(np.clip(centres[~own], place[:2], place[2:]) - centres[~own]).T).min() \
                 <= distance[i]:
             continue                  # nearer another point than its own: it would name that one
-        if crosses_segments(start, anchor, leaders) or any(_leader_through(start, anchor, b) for b in others):
+        # nor within the leader's gap of another text, nor another leader within it of the place
+        if crosses_segments(start, anchor, leaders) or any(_leader_through(start, anchor, b) for b in wide_others) \
+                or (len(leaders) and np.any(crossing_pairs(leaders, widened(place, gap)))):
             continue
+        if runs_along_each(segments, start, short_of_each(start, anchor, radius), scale)[0]:
+            continue                  # along a line: read as a piece of it
         hits = _meets(start, anchor, segments) if len(segments) else np.zeros((0, 2))
         if len(hits) and np.any(np.hypot(*(hits[:, None] - group[None]).transpose(2, 0, 1)).min(axis=1)
                                 > radius + 0.5):
@@ -676,7 +696,17 @@ def _lead_to_nearest(ax, text, members, renderer):
     end = (min(max(points[k][0], box.x0), box.x1), min(max(points[k][1], box.y0), box.y1))
     text.xy = tuple(members[k - 1])
     text.xyann = (text.xyann[0] - shift[0], text.xyann[1] - shift[1])
-    text.arrowprops["relpos"] = ((end[0] - box.x0) / max(box.width, 1e-9), (end[1] - box.y0) / max(box.height, 1e-9))
+    _start_leader_at(text, ((end[0] - box.x0) / max(box.width, 1e-9), (end[1] - box.y0) / max(box.height, 1e-9)))
+
+
+def _start_leader_at(text, relpos):
+    """Start the leader of the annotation ``text`` at ``relpos`` (fractions of its box) as drawn:
+    matplotlib reads ``arrowprops['relpos']`` once, when the annotation is made (into its
+    ``_arrow_relpos``), so a label moved after that drew its leader from its old corner (the fan's
+    '3608/3939/3943/3959/4184', moved below its circle, from its lower left corner, against the
+    curve number '8', where the leader measured went from its upper left one)."""
+    text.arrowprops["relpos"] = relpos
+    text._arrow_relpos = relpos
 
 
 def _crossing_leaders(ax, drawn, members, centres):

@@ -28,6 +28,7 @@ zooming, panning and resizing.
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -1637,8 +1638,10 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     :data:`ANCHOR_POINTS` of its own anchor: :class:`CurveMap`) of a grid around its anchor
     (:func:`boxes_around`) that costs least: its distance plus :data:`_CROSSING_COST` label
     heights for each curve its leader line crosses; a leader line joins the box's point
-    nearest the anchor to the anchor. Labels crowded at one point so fan out in columns
-    beside it. A label with no free box, or whose leader crosses curves at a cost above
+    nearest the anchor to the anchor. No leader runs along a drawn line (:func:`runs_along_each`)
+    or passes within :data:`LEADER_GAP_POINTS` of another label (with ``crossing``: where every
+    label finds a box so; else the labels are placed again without that gap, kept if more are).
+    Labels crowded at one point so fan out in columns beside it. A label with no free box, or whose leader crosses curves at a cost above
     :data:`_MOST_COST` label heights, is left out: give the anchors most important first. With
     ``crossing``, the labels that have a box whose leader neither crosses nor runs along a curve
     take such boxes first, those with fewest first; the others follow, in the order given.
@@ -1822,7 +1825,9 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
     only a box whose leader neither crosses nor runs along a curve (nor, with ``circles``,
     passes through another point's circle), 'fallback' only the others, 'both' the first where
     it has one, else the second; 'count' returns how many plain boxes there are (up to
-    :data:`_FREEDOM`, nothing placed). ``circles``: (centres (n, 2), radius) of every point's
+    :data:`_FREEDOM`, nothing placed). In every stage no box is taken whose leader runs along a
+    drawn line (:meth:`CurveMap.runs_along`, beyond the marker) or passes within ``room``'s gap of
+    another label (nor another leader as near the box). ``circles``: (centres (n, 2), radius) of every point's
     circle, or None.
     """
     labels, leaders = drawn
@@ -1831,12 +1836,17 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
     pad, frame, gap = room
     marker = keep * _MARKER_POINTS / ANCHOR_POINTS
 
+    lying = {}          # box -> whether its leader runs along a drawn line
+
     def runs_along(box):
-        # the leader as seen: from the box to the marker's circle (a curve through the marker meets it)
-        start = nearest_in(box, point)
-        if np.hypot(start[0] - point[0], start[1] - point[1]) < ALONG_POINTS * curves.points + marker:
-            return False
-        return curves.runs_along(start, short_of_each(start, point, marker)[0])
+        # the leader as seen: from the box to the marker's circle (a curve through the marker meets
+        # it); one shorter than ALONG_POINTS runs along none
+        if box not in lying:
+            (x, y), (px, py) = nearest_in(box, point), point
+            size = math.hypot(x - px, y - py)
+            lying[box] = size >= ALONG_POINTS * curves.points + marker and curves.runs_along(
+                (x, y), (px + marker / size * (x - px), py + marker / size * (y - py)))
+        return lying[box]
 
     def clear(box, apart=True):
         if box not in quick:

@@ -524,8 +524,10 @@ def _shorter_leaders(ax, drawn, points, members=None):
     line, stood 41 and 19 points away down the brown curve, '4184' 17 points away while a
     place beside its circle was free): a place inside the axes, clear of every other text, of
     the circles and squares drawn (``points``: the labelled points, data coordinates) and of
-    every line, whose leader crosses no line outside the point's own circle, no other leader,
-    no other label and no other circle. A label naming several circles (``members``: text ->
+    every line, whose leader crosses no line outside the point's own circle, runs along none
+    (:func:`._labels.runs_along_each`), passes :data:`._labels.LEADER_GAP_POINTS` clear of every
+    other text (and no other leader as near the place), and crosses no other leader and no
+    other circle. A label naming several circles (``members``: text ->
     their points, :func:`_members`) may lead to any of them, its leader crossing lines inside any. Measured on the figure laid out at :data:`SAVED_DPI`; a label with no
     nearer place stays where :func:`_place_labels` put it."""
     from matplotlib.text import Text

@@ -108,7 +108,9 @@ def ucs_figure():
     given), mapped and plotted once per worker. The plot (its labels' placement) is most of the
     time of the tests that measure one map's figure, and some measure the same figure
     (test_figures33 and test_figures35: the fan with every bearing; test_figure_audit27p and
-    test_figure_audit27r: the fan's bearings by default). The figure comes on a canvas of its
+    test_figure_audit27r: the fan's bearings by default; test_ucs32 and test_figure_audit30:
+    flexible_pump_on_mounts over 1e5 .. 1e10 N/m in 41 values, whose map test_figures33 plots
+    in both systems). The figure comes on a canvas of its
     own (a figure pyplot closed has none); the tests set its dpi, draw it and measure it, and
     change nothing else (drawn again, its texts' boxes are the same to the last bit)."""
     import numpy as np
@@ -129,6 +131,76 @@ def ucs_figure():
             FigureCanvasAgg(fig)
         return maps[key], fig
     return get
+
+
+@pytest.fixture(scope="session")
+def _first_results():
+    """What :func:`shared_analyses` keeps in this worker: ``{call: (pickled result, warnings)}``."""
+    return {}
+
+
+@pytest.fixture
+def shared_analyses(monkeypatch, _first_results):
+    """``shared_analyses(module, "name", ...)``: for the rest of the test, each named function of
+    ``module`` (a module or its name; an analysis the command line looks up there when it runs)
+    computes a call once per worker: a later call with the same arguments (the same pickled bytes: the same model,
+    read from the same file, the same doubles) and the same ``ROTORDYN_*`` and ``NUMBA_*``
+    environment returns a copy of the first call's result (unpickled: no two callers share an
+    object, none can change the kept one) and warns again the warnings the first call showed
+    (through the filters and the printer in force, as ``cli._common.say_warnings`` does). Only
+    for analyses that say everything they say by warnings: what one prints is not printed again.
+    A call whose arguments or result cannot be pickled, or that raises, is computed every time.
+
+    For the files that run one analysis twice, in SI and in US units (the command line
+    converts at its edges: both runs compute in SI from the same doubles), and the same
+    analysis in several files (test_unbalance_markers36, test_csv_round_trip29,
+    test_units_examples32)."""
+    import importlib
+    import os
+    import pickle
+    import warnings
+
+    from rotordyn_modal.cli._common import say_warnings
+
+    def environment():
+        return tuple(sorted((k, v) for k, v in os.environ.items() if k.startswith(("ROTORDYN", "NUMBA"))))
+
+    def remembering(function):
+        def call(*args, **kwargs):
+            try:
+                key = (function.__module__, function.__qualname__, pickle.dumps((args, kwargs)), environment())
+            except Exception:                           # noqa: BLE001 - not picklable: not shared
+                return function(*args, **kwargs)
+            if key in _first_results:
+                kept, caught = _first_results[key]
+                say_warnings(caught)
+                return pickle.loads(kept)
+            caught, show = [], warnings.showwarning
+            warnings.showwarning = shown_and_kept(show, caught)     # the filters untouched
+            try:
+                result = function(*args, **kwargs)
+            finally:
+                warnings.showwarning = show
+            try:
+                _first_results[key] = (pickle.dumps(result), caught)
+            except Exception:                           # noqa: BLE001 - not picklable: not shared
+                return result
+            return pickle.loads(_first_results[key][0])
+        return call
+
+    def shown_and_kept(show, caught):
+        """``warnings.showwarning`` that shows as ``show`` does (in their place among the call's
+        other output) and keeps each warning shown in ``caught``."""
+        def shown(message, category, filename, lineno, file=None, line=None):
+            caught.append(warnings.WarningMessage(message, category, filename, lineno, file, line))
+            show(message, category, filename, lineno, file, line)
+        return shown
+
+    def share(module, *names):
+        module = importlib.import_module(module) if isinstance(module, str) else module
+        for name in names:
+            monkeypatch.setattr(module, name, remembering(getattr(module, name)))
+    return share
 
 
 @pytest.fixture

@@ -45,6 +45,22 @@ UNITLESS = ("amplitude", "value", "limit", "real", "imag", "magnitude", "major",
 STIFFNESS_US, QA_US = (571.0, 5.71e6), 2855.0
 
 
+#: module -> the analyses in it that the sub-commands run: computed once per worker for both
+#: systems (conftest's ``shared_analyses``; both runs compute from the same SI doubles).
+#: ``simulate`` computes each time: it prints a notice of its own (once per process)
+ANALYSES = {"rotordyn_modal.analysis.unbalance": ("unbalance_response", "api_unbalance_response"),
+            "rotordyn_modal.analysis.static": ("static",), "rotordyn_modal.analysis.frf": ("frf",),
+            "rotordyn_modal.analysis.forces": ("force_frf",), "rotordyn_modal.analysis.ucs_map": ("ucs_map",),
+            "rotordyn_modal.analysis.level1": ("level1",), "rotordyn_modal.analysis.campbell": ("campbell",),
+            "rotordyn_modal.analysis.modal": ("modal",)}
+
+
+def share_analyses(shared_analyses):
+    """Every analysis of :data:`ANALYSES` computed once per worker for the rest of the test."""
+    for module, names in ANALYSES.items():
+        shared_analyses(module, *names)
+
+
 def _examples(*skipped):
     return [p.name for p in sorted(EXAMPLES.glob("*.toml")) if ".study." not in p.name and p.stem not in skipped]
 
@@ -120,8 +136,9 @@ def _rotor_with_bearings(example):
 
 
 @pytest.mark.parametrize("example", _examples())
-def test_every_us_csv_is_the_si_one_to_round_off(example, tmp_path, monkeypatch):
+def test_every_us_csv_is_the_si_one_to_round_off(example, tmp_path, monkeypatch, shared_analyses):
     monkeypatch.setenv("NUMBA_NUM_THREADS", "1")
+    share_analyses(shared_analyses)
     compared, refused = [], []
     for name, argv, extra in _commands(example):
         if name == "level1":

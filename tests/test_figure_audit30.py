@@ -45,7 +45,7 @@ def test_the_campbell_diagram_and_the_ucs_map_group_circles_with_the_one_functio
 
 
 @pytest.mark.parametrize("example", ["motor_pump_on_mounts", "flexible_pump_on_mounts"])
-def test_overlapping_circles_share_one_label_with_a_clean_leader(example):
+def test_overlapping_circles_share_one_label_with_a_clean_leader(example, ucs_figure):
     """``ucs-map examples/motor_pump_on_mounts.toml --stiffness 1e5:1e10:41 --plot``: at 1e8 N/m
     the crossings 52517, 56625 and 62212 rpm lie 3.4 points apart on one stiffness line (circles
     6 points across, overlapping); '52517' and '56625' stood side by side and the leader of
@@ -54,16 +54,12 @@ def test_overlapping_circles_share_one_label_with_a_clean_leader(example):
     ``test_figure_audit27r._ucs_label_problems``): every crossing's speed is written, no label
     leaves the axes or lies over another, no leader crosses a mode's curve beyond its circle
     or passes through the circle of a crossing its label does not name."""
-    from pathlib import Path
-
     import matplotlib.pyplot as plt
 
-    import rotordyn_modal as rdm
     from test_figure_audit27r import _ucs_label_problems
 
-    model = rdm.load_model(Path(__file__).resolve().parent.parent / "examples" / f"{example}.toml")
-    result = rdm.ucs_map(model, np.geomspace(1e5, 1e10, 41))
-    fig = result.plot()
+    # mapped and plotted once per worker (conftest.ucs_figure): the pump's with test_ucs32's
+    result, fig = ucs_figure(example, (1e5, 1e10, 41))
     fig.set_dpi(150)
     assert not _ucs_label_problems(result, fig)
     plt.close(fig)

@@ -233,6 +233,15 @@ def test_a_model_file_given_as_the_study_file_is_named_a_model_file(tmp_path):
     assert "a model file" in line and "--spec" in line and "unknown key" not in line, line
 
 
+def written_uff(path):
+    """``path``, a Universal File the command line wrote: the FRF acc-top-z / hammer-z of
+    rubber_mounts.toml at rest at :data:`_FREQS` (one dataset 58)."""
+    code, err = run_quietly(["frf", str(EXAMPLE_RUBBER), "--speed", "0", "--freqs", "5:20:4", "--sensor", "acc-top-z",
+                             "--excitation", "hammer-z", "--out", str(path)])
+    assert code == 0, err
+    return path
+
+
 def test_a_uff_frf_of_even_spacing_and_no_step_is_refused_naming_the_step(tmp_path):
     """Record 7 with even spacing and an increment of 0 puts every line at one frequency; it was
     refused as "given 10 times at 5 Hz ... (a duplicated channel?)", which sends the user looking
@@ -242,10 +251,7 @@ def test_a_uff_frf_of_even_spacing_and_no_step_is_refused_naming_the_step(tmp_pa
     import rotordyn_modal as rdm
 
     model = rdm.load_model(EXAMPLE_RUBBER)
-    good = tmp_path / "good.uff"
-    code, err = run_quietly(["frf", str(EXAMPLE_RUBBER), "--speed", "0", "--freqs", "5:20:4", "--sensor", "acc-top-z",
-                             "--excitation", "hammer-z", "--out", str(good)])
-    assert code == 0, err
+    good = written_uff(tmp_path / "good.uff")
     lines = good.read_text().splitlines(keepends=True)
     record7 = next(i for i, line in enumerate(lines)          # ordinate type, count, even spacing, start, step, z
                    if len(line.split()) == 6 and line.split()[1:3] == [str(len(_FREQS)), "1"])

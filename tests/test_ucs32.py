@@ -97,7 +97,7 @@ def _segments_cross(p, q, a, b):
     return side(p, q, a) * side(p, q, b) < 0 and side(a, b, p) * side(a, b, q) < 0
 
 
-def test_the_pump_on_mounts_crossing_labels_stand_near_their_circles(models):
+def test_the_pump_on_mounts_crossing_labels_stand_near_their_circles(ucs_figure):
     """flexible_pump_on_mounts' map over 1e5 .. 1e10 N/m (41 values, as its figure audit draws
     it), measured at the saved 150 dpi: every crossing label's leader (from its box to its
     point) is at most 24 points long and crosses no mode's curve away from the circles it names
@@ -109,8 +109,8 @@ def test_the_pump_on_mounts_crossing_labels_stand_near_their_circles(models):
     matplotlib.use("Agg")
     from matplotlib.text import Annotation, Text
 
-    result = rdm.ucs_map(models["flexible_pump"], np.geomspace(1e5, 1e10, 41))
-    fig = result.plot()
+    # mapped and plotted once per worker with test_figure_audit30's (conftest.ucs_figure)
+    result, fig = ucs_figure("flexible_pump_on_mounts", (1e5, 1e10, 41))
     ax = fig.axes[0]
     fig.set_dpi(150)
     fig.canvas.draw()

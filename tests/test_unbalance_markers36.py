@@ -47,8 +47,10 @@ CASES = [
 ]
 
 
-def _drawn(monkeypatch, tmp_path, name, options, units):
-    """(result, peaks table, figure) of the CLI's unbalance figure."""
+def _drawn(monkeypatch, tmp_path, name, options, units, shared_analyses):
+    """(result, peaks table, figure) of the CLI's unbalance figure; its analysis computed once per
+    worker for both systems (``shared_analyses``: the same SI doubles in both)."""
+    shared_analyses("rotordyn_modal.analysis.unbalance", "unbalance_response", "api_unbalance_response")
     seen = {}
     plot = frf.plot_unbalance
 
@@ -119,8 +121,8 @@ def _full_text(ax, label):
 
 @pytest.mark.parametrize("units", ["si", "us"])
 @pytest.mark.parametrize("name, options", CASES, ids=[f"{n}-{i}" for i, (n, _) in enumerate(CASES)])
-def test_each_peak_marker_stands_on_its_curve(monkeypatch, tmp_path, name, options, units):
-    result, peaks, fig = _drawn(monkeypatch, tmp_path, name, options, units)
+def test_each_peak_marker_stands_on_its_curve(monkeypatch, tmp_path, name, options, units, shared_analyses):
+    result, peaks, fig = _drawn(monkeypatch, tmp_path, name, options, units, shared_analyses)
     checked = 0
     for ax in fig.axes:
         markers = [line for line in ax.get_lines() if line.get_label() == "_peak"]

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_csv_round_trip29 import ENDINGS, ROW_UNITS, UNITLESS, _back_to_si
+from test_csv_round_trip29 import ENDINGS, ROW_UNITS, UNITLESS, _back_to_si, share_analyses
 from test_csv_round_trip29 import _same as _same_table
 from test_report import CASES as REPORT_CASES
 from test_report import MCS_RPM
@@ -305,7 +305,7 @@ def _printed(argv):
 
 
 @pytest.mark.parametrize("example", EXAMPLE_FILES)
-def test_every_example_prints_and_writes_the_same_in_us_units(example, tmp_path, monkeypatch):
+def test_every_example_prints_and_writes_the_same_in_us_units(example, tmp_path, monkeypatch, shared_analyses):
     """``critical-speeds``, ``modes --speed``, ``campbell``, ``unbalance`` and ``static`` run in SI
     and in US units: the same exit code; printed tables and sentences (stdout and stderr) alike or
     converted exactly to the digits printed; every CSV back in SI (its columns times their units)
@@ -314,6 +314,7 @@ def test_every_example_prints_and_writes_the_same_in_us_units(example, tmp_path,
     import pandas as pd
 
     monkeypatch.setenv("NUMBA_NUM_THREADS", "1")
+    share_analyses(shared_analyses)          # each analysis computed once for both systems
     written = []
     for command in _COMMANDS:
         outs = {s: tmp_path / f"{command}.{s}.csv" for s in ("si", "us")}

@@ -19,7 +19,7 @@ along a forward (with the spin) whirl orbit, and feeds it. For a rotor spinning 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.optimize import brentq
@@ -70,18 +70,21 @@ class Station:
 
     rotor: str
     offset: float = 0.0
+    #: the unit system its OFFSET was typed in ('si': m, 'us': in): a refusal says lengths in it
+    units: str = field(default="si", compare=False)
 
     @classmethod
-    def parse(cls, text: str) -> "Station":
-        """``ROTOR`` or ``ROTOR@OFFSET`` (offset in m along ``spin_axis`` from its centre of mass)."""
+    def parse(cls, text: str, units: str = "si") -> "Station":
+        """``ROTOR`` or ``ROTOR@OFFSET`` (offset in m along ``spin_axis`` from its centre of mass;
+        ``units`` names the length unit the refusal says the command line reads it in: in for 'us')."""
         rotor, at, offset = str(text).rpartition("@") if "@" in str(text) else (str(text), "", "0")
         try:
             value = float(offset)
         except ValueError:
             value = float("nan")
         if not rotor or not np.isfinite(value):
-            raise InputError(f"station {text!r}: expected ROTOR or ROTOR@OFFSET (OFFSET in m along spin_axis from "
-                             "the rotor's centre of mass)")
+            raise InputError(f"station {text!r}: expected ROTOR or ROTOR@OFFSET (OFFSET [{unit_label('length', units)}] "
+                             "along spin_axis from the rotor's centre of mass)")
         return cls(rotor, value)
 
     def point(self, model) -> np.ndarray:
@@ -138,7 +141,8 @@ def anticipated_cross_coupling(power, speed, diameter, height, density_ratio=1.0
         else np.ones_like(power)
     for name, values in (("power", power), ("diameter", diameter), ("height", height), ("density_ratio", ratio)):
         if values.shape != power.shape or not np.all(np.isfinite(values)) or not np.all(values > 0):
-            raise InputError(f"{name} = {values.tolist()}: expected {len(power)} finite values > 0, one per stage")
+            raise InputError(f"{name} = {values.tolist()}: expected finite values > 0, one per stage "
+                             f"({len(power)} {'stage' if len(power) == 1 else 'stages'})")
     if not (np.isfinite(speed) and speed > 0):
         raise InputError(f"speed = {speed!r}: expected the operating speed > 0 [rad/s]")
     factor = B_COMPRESSOR if machine == "compressor" else B_TURBINE
@@ -439,6 +443,24 @@ def _shares(shares, count):
     return values / values.sum()
 
 
+def disk_offset_hint(model, text: str, units: str = "si") -> str:
+    """The end of the refusal of a station ``ROTOR@NAME`` whose NAME is no number but one of the
+    flexible rotor's disks (an impeller, named as the model names it): the OFFSET to type
+    instead, ``"; disk 'impeller-1' of rotor 'compressor' is at OFFSET -0.283265 m from its centre
+    of mass: --station compressor@-0.283265"``, in the length unit of ``units`` (m; in for 'us');
+    ``""`` when NAME is none of its disks."""
+    rotor_name, _, name = str(text).rpartition("@")
+    rotor = next((r for r in model.rotors if r.name == rotor_name), None)
+    disk = next((d for d in (getattr(rotor, "disks", None) or ()) if str(d.get("name")) == name.strip()), None)
+    if disk is None:
+        return ""
+    axis = np.asarray(model.spin_axis, dtype=float)
+    centre = float((np.asarray(rotor.center_of_mass, dtype=float) - np.asarray(rotor.start, dtype=float)) @ axis)
+    offset = to_system(float(disk["axial_position"]) - centre, "length", units)
+    return (f"; disk {name.strip()!r} of rotor {rotor_name!r} is at OFFSET {offset:.6g} {unit_label('length', units)} "
+            f"from its centre of mass: --station {rotor_name}@{offset:.6g}")
+
+
 def _check_stations(model, stations):
     """Each station's rotor exists and moves in bearings of its own."""
     names = [r.name for r in model.rotors]
@@ -446,7 +468,9 @@ def _check_stations(model, stations):
         if station.rotor not in names:
             known = f"the model's rotors are {', '.join(names)}" if names else \
                 "the model has no [[rotors]]: a Level I analysis needs a rotor in bearings"
-            raise InputError(f"station {station}: no rotor {station.rotor!r}: {known}")
+            hint = next((h for r in model.rotors if (h := disk_offset_hint(model, f"{r.name}@{station.rotor}",
+                                                                             station.units))), "")
+            raise InputError(f"station {station}: no rotor {station.rotor!r}: {known}{hint}")
         if not model.dofs.on_bearings(station.rotor):
             raise InputError(f"station {station}: rotor {station.rotor!r} has no bearings (it is rigidly attached to "
                              "the stator): cross-coupling needs a rotor moving in its bearings")
@@ -482,10 +506,20 @@ def _check_on_shaft(model, station):
     slack = STATION_TOLERANCE * (1.0 + length)
     if not -slack <= z <= length + slack:
         centre = shaft.z_of(model.rotor(station.rotor).center_of_mass)
-        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {station.offset:.6g} m: expected a point on "
-                         f"rotor {station.rotor!r}'s shaft, OFFSET from {-centre:.6g} to {length - centre:.6g} m "
-                         f"(the shaft runs 0 to {length:g} m from its start, its centre of mass at {centre:.6g} m; "
-                         f"this OFFSET is at {z:.6g} m)")
+        shown = _lengths(station.units)
+        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {shown(station.offset)}: expected a point on "
+                         f"rotor {station.rotor!r}'s shaft, OFFSET from {shown(-centre, bare=True)} to {shown(length - centre)} "
+                         f"(the shaft runs 0 to {shown(length)} from its start, its centre of mass at {shown(centre)}; "
+                         f"this OFFSET is at {shown(z)})")
+
+
+def _lengths(units: str):
+    """A length [m] as a refusal shows it in ``units``: with its unit (``'0.583265 m'``,
+    ``'22.9632 in'``), or the number alone with ``bare=True`` (a range's first end)."""
+    def shown(value, bare: bool = False) -> str:
+        number = f"{to_system(value, 'length', units):.6g}"
+        return number if bare else f"{number} {unit_label('length', units)}"
+    return shown
 
 
 def _rigid_extent(model, name: str) -> tuple[float, float]:
@@ -511,8 +545,9 @@ def _check_on_rigid(model, station):
     low, high = _rigid_extent(model, station.rotor)
     slack = 1e-6 * (1.0 + high - low)
     if not low - slack <= station.offset <= high + slack:
-        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {station.offset:.6g} m: expected a point on "
-                         f"rigid rotor {station.rotor!r}, OFFSET from {low:.6g} to {high:.6g} m (its extent along "
+        shown = _lengths(station.units)
+        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {shown(station.offset)}: expected a point on "
+                         f"rigid rotor {station.rotor!r}, OFFSET from {shown(low, bare=True)} to {shown(high)} (its extent along "
                          "spin_axis from its centre of mass: its bearings, the points the model places on it, "
                          "and a slender rod of its mass and diametral inertia)")
 

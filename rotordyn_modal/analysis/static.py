@@ -756,7 +756,7 @@ def _bearing_stiffness(model, bearing, speed, load=None) -> np.ndarray:
     where = f"{model.source}: [bearings.{visible(bearing.name)}]"
     if coefficients.kind != "constant" and speed is None:
         raise InputError(f"{where}: its stiffness depends on speed ({'a journal bearing' if coefficients.kind == 'journal' else 'a speed table'}): "
-                         "give the operating speed")
+                         "give the operating speed (speed [rad/s]; on the command line --speed)")
     own = 0.0 if speed is None else model.speed_ratios[bearing.rotor] * speed
     if coefficients.kind != "journal":
         return evaluate(coefficients, [own], where)[0][0]

@@ -130,12 +130,9 @@ def gas_density(args):
 def run(args) -> int:
     from ..analysis.level1 import Station, level1
 
-    try:
-        stations = [Station.parse(text) for text in args.station]
-    except InputError as error:     # "station 'fan@': ..." said of the option
-        raise InputError(f"--{error}") from None
+    stations = parse_stations(args)
     if args.units != "si":      # ROTOR@OFFSET: the offset in in
-        stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", args.units)) for s in stations]
+        stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", args.units), units=args.units) for s in stations]
     speed = mcs_option(args, signed=True)    # the check report makes (there > 0)
     qa, shares = anticipated(args, len(stations), speed)
     factor = parse_number(args.factor, "--factor")
@@ -187,6 +184,23 @@ def _mode_line(run, result, scale, unit) -> str:
                                                                      if governs else ""))
 
 
+def parse_stations(args) -> list:
+    """The --station options as :class:`~rotordyn_modal.analysis.level1.Station`; one that is not
+    ROTOR[@OFFSET] is refused as the option, and where its OFFSET names a disk of the rotor
+    (``compressor@impeller-1``) the refusal gives that disk's OFFSET to type (the model is read
+    for it)."""
+    from ..analysis.level1 import Station, disk_offset_hint
+
+    stations = []
+    for text in args.station:
+        try:
+            stations.append(Station.parse(text, args.units or "si"))
+        except InputError as error:     # "station 'fan@': ..." said of the option
+            hint = disk_offset_hint(open_model(args), text, args.units or "si") if "@" in text else ""
+            raise InputError(f"--{error}{hint}") from None
+    return stations
+
+
 def anticipated(args, count, speed):
     """(Qa [N/m], shares per station) from --qa or the stage data."""
     qa, shares, _ = anticipated_stages(args, count, speed)
@@ -211,13 +225,16 @@ def anticipated_stages(args, count, speed):
                              "gives Qa without it")
         values = from_system(parse_list(args.qa, "--qa"), "stiffness", args.units)
         if not np.all(values > 0):
-            raise InputError(f"--qa {args.qa!r}: expected values > 0 [N/m]")
+            raise InputError(f"--qa {args.qa!r}: expected values > 0 [{unit_scale('stiffness', args.units)[1]}]")
         return (*_spread(values, count, "--qa"), None)
     if any(o is None for o in stage_options):
-        raise InputError("give --qa N/m, or --rated-power, --impeller-diameter and --restriction-height (one per "
-                         "stage)")
+        raise InputError(f"give --qa {unit_scale('stiffness', args.units)[1]}, or {power_option}, --impeller-diameter "
+                         "and --restriction-height (one per stage)")
     power, diameter, height = (from_system(parse_list(o, name), kind, args.units) for o, name, kind in zip(
         stage_options, (power_option, "--impeller-diameter", "--restriction-height"), ("power", "length", "length")))
+    if args.density_ratio is not None and args.machine == "turbine":   # was dropped without a word
+        raise InputError(f"--density-ratio {args.density_ratio}: expected none with --machine turbine (API 617's "
+                         "turbine stages have no density ratio: qa = 1.5 T / (D H))")
     ratio = parse_list(args.density_ratio, "--density-ratio") if args.density_ratio else np.ones(1)
     stages = max(len(power), len(diameter), len(height), len(ratio))
     power, diameter, height, ratio = (_per_stage(v, stages, name) for v, name in zip(

@@ -42,10 +42,61 @@ class _Parser(argparse.ArgumentParser):
         self.values_given = {}          # {dest: (value, spelling)} of this parse (_StoreOnce)
         return super().parse_known_args(args, namespace)
 
+    def parse_args(self, args=None, namespace=None):
+        """The top parser's parse: an argument no option of the sub-command takes is refused by
+        the sub-command's parser (``rotordyn-modal frf: error: ...``, its own --help), naming
+        the sub-commands that take such an option, or the option of this one it is a typo of;
+        argparse's own refusal named neither (``rotordyn-modal: error: unrecognized arguments``)."""
+        parsed, extras = self.parse_known_args(args, namespace)
+        commands = self._subparsers._group_actions[0].choices if self._subparsers else {}
+        sub = commands.get(getattr(parsed, "command", None))
+        if extras:
+            (sub or self).error(f"unrecognized arguments: {' '.join(extras)}{_unrecognized_hint(extras, sub, commands)}")
+        if sub is not None:
+            self._refuse_two_values(sub)
+        return parsed
+
+    def _refuse_two_values(self, sub) -> None:
+        """An option given before the sub-command and again after it with another value
+        (``--units us static M --units si``) is refused as one given twice in one place is
+        (:class:`_StoreOnce`); the value after it won without a word."""
+        for dest in self.values_given.keys() & sub.values_given.keys():
+            (before, spelling), (after, _) = self.values_given[dest], sub.values_given[dest]
+            if str(before).strip().lower() != str(after).strip().lower():
+                sub.error(f"{spelling} given twice ({before!r} before the sub-command, then {after!r}): give it once")
+
     def error(self, message):  # usage errors: one line (no usage block before it), exit 2
         if message.startswith("one of the arguments ") and " " not in message[21:-12]:  # a required option
             message = f"the following arguments are required: {message[21:-12]}"     # and its hidden alias
         self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
+def _unrecognized_hint(extras, sub, commands) -> str:
+    """The end of an unrecognized argument's message: for its first option (``--amplitude rms``
+    given to ``frf``), the sub-commands that take it (``": --amplitude is an option of
+    unbalance, report"``), else the option of ``sub`` it is a typo of (``": did you mean
+    '--sensor'?"``), else nothing.
+
+    Parameters
+    ----------
+    extras : list of str
+        The arguments no option took, as typed.
+    sub : argparse.ArgumentParser or None
+        The sub-command's parser (None: no sub-command was given).
+    commands : dict
+        Every sub-command's parser, by its name.
+    """
+    from ..model._table import close_key
+
+    option = next((extra.split("=", 1)[0] for extra in extras if extra.startswith("--")), None)
+    if option is None:
+        return ""
+    takers = [name for name, parser in commands.items() if option in parser._option_string_actions]
+    if takers:
+        return f": {option} is an option of {', '.join(takers)}"
+    own = [known for known in (sub._option_string_actions if sub else ()) if known.startswith("--")]
+    meant = close_key(option, own)
+    return f": did you mean {meant!r}?" if meant else ""
 
 
 def build_parser() -> argparse.ArgumentParser:

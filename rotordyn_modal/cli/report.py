@@ -17,7 +17,7 @@ from ..io.text import shown_text
 from ..units import from_system
 from ._common import IN_SPEED_UNIT, add_alias, add_allow_long, add_model_argument, add_output_file, as_typed, add_speed_unit, check_ending, check_extra_output, \
     mcs_option, open_model, show_progress, whole_number
-from .level1 import add_stage_arguments, anticipated_stages, gas_density
+from .level1 import add_stage_arguments, anticipated_stages, gas_density, parse_stations
 from .ucs_map import _operating, _stiffness
 
 NAME = "report"
@@ -136,7 +136,6 @@ def _terminal_line(criterion) -> str:
 
 
 def _inputs(args):
-    from ..analysis.level1 import Station
     from ..report import ReportInputs
 
     mcs = mcs_option(args)      # 1e-300 rpm: every swept speed 0 to round-off (level1 checks the same)
@@ -158,9 +157,9 @@ def _inputs(args):
     units = getattr(args, "units", None) or "si"
     level1 = None
     if args.station:
-        stations = [Station.parse(text) for text in args.station]
+        stations = parse_stations(args)
         if units != "si":      # ROTOR@OFFSET: the offset in in, as in 'level1'
-            stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", units)) for s in stations]
+            stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", units), units=units) for s in stations]
         qa, shares, stages = anticipated_stages(args, len(stations), mcs)
         level1 = {"stations": stations, "qa": qa, "shares": shares, "gas_density": gas_density(args),
                   "stages": stages}

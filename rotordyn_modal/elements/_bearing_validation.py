@@ -45,9 +45,16 @@ LONG_JOURNAL = 1.0
 #: bearings run at about 0.001 to 0.003 (the examples: 0.002), while a clearance in mm typed for
 #: m (0.05 for 50 micrometres) lands at 0.1 to 1
 WIDE_CLEARANCE = 0.02
+#: radial clearance / journal radius below which a journal bearing draws a warning: a tenth of the
+#: tightest plain bearings' (0.001); a clearance in micrometres typed as nanometres lands below it
+TIGHT_CLEARANCE = 1e-4
 #: [Pa s] oil viscosity above which a journal bearing draws a warning: lubricating oils run 0.002
 #: to about 1 Pa s (ISO VG 680 cold), honey 10; mPa s (cP) typed for Pa s lands at 2 to 1000
 THICK_OIL = 5.0
+#: [Pa s] viscosity below which a journal bearing draws a warning: a tenth of water's (0.001);
+#: gases (air 1.8e-5) need a compressible film theory, and a kinematic viscosity in m^2/s
+#: (ISO VG 32: 3.2e-5) typed for the dynamic one lands below it
+THIN_FLUID = 1e-4
 
 
 def bearings(tables: dict, rotors, spin_axis: np.ndarray, gravity: np.ndarray) -> list[Bearing]:
@@ -324,7 +331,8 @@ def _with_journal_load(bearing: Bearing, tables, every, rotors, e, gravity) -> B
 
 def _warn_journal_units(table: Table, diameter: float, clearance: float, viscosity: float) -> None:
     """One warning line each for a journal's clearance over :data:`WIDE_CLEARANCE` of its radius
-    and a viscosity over :data:`THICK_OIL`: most likely mm typed for m, mPa s for Pa s. Either
+    or under :data:`TIGHT_CLEARANCE`, and a viscosity over :data:`THICK_OIL` or under
+    :data:`THIN_FLUID`: most likely mm typed for m, mPa s for Pa s, m^2/s for Pa s. Either
     moves the film's eccentricity, so its coefficients, without another word at ``check`` (an
     analysis says only that the eccentricity is high)."""
     ratio = clearance / (0.5 * diameter)
@@ -332,6 +340,16 @@ def _warn_journal_units(table: Table, diameter: float, clearance: float, viscosi
         warnings.warn(f"{table.source}: [{table.label}] clearance = {clearance:g}: {ratio:.3g} of the journal's radius "
                       f"{0.5 * diameter:g} m, over {WIDE_CLEARANCE:g} (plain bearings run 0.001 to 0.003); a "
                       "clearance in mm typed for m? (model files are SI)", ModelWarning, stacklevel=3)
+    if ratio < TIGHT_CLEARANCE:
+        warnings.warn(f"{table.source}: [{table.label}] clearance = {clearance:g}: {ratio:.3g} of the journal's radius "
+                      f"{0.5 * diameter:g} m, under {TIGHT_CLEARANCE:g} (plain bearings run 0.001 to 0.003); a "
+                      "clearance converted to m twice? (model files are SI: 50 micrometres = 5e-5)", ModelWarning,
+                      stacklevel=3)
+    if viscosity < THIN_FLUID:
+        warnings.warn(f"{table.source}: [{table.label}] viscosity = {viscosity:g}: under {THIN_FLUID:g} Pa s (lubricating "
+                      "oils run 0.002 to 1 Pa s, water 0.001; a gas film needs a compressible theory); a kinematic "
+                      "viscosity in m^2/s typed for the dynamic one in Pa s (= m^2/s x density)? (model files are SI)",
+                      ModelWarning, stacklevel=3)
     if viscosity > THICK_OIL:
         warnings.warn(f"{table.source}: [{table.label}] viscosity = {viscosity:g}: over {THICK_OIL:g} Pa s (lubricating "
                       "oils run 0.002 to 1 Pa s, honey 10); a viscosity in mPa s (cP) typed for Pa s? (model files "

@@ -331,8 +331,9 @@ def _check_element_keys(source: str, elements: dict) -> None:
 
 
 def _warn_version(source: str, version) -> None:
-    """One warning line for a ``ross_version`` newer than :data:`ROSS_VERSIONS`' newest (its
-    saves may hold what this reader does not know), or that is no version number."""
+    """One warning line for a ``ross_version`` outside :data:`ROSS_VERSIONS` (a newer one's saves
+    may hold what this reader does not know, an older one's were never compared), or that is no
+    version number."""
     import re
 
     if version is None:
@@ -344,8 +345,9 @@ def _warn_version(source: str, version) -> None:
         warnings.warn(f"{shown_text(source)}: ross_version = {version!r}: no version number (e.g. '3.1.0'); "
                       f"read as a save of {tested}, the versions this reader was checked on (docs/ross.md)",
                       ModelWarning, stacklevel=3)
-    elif (int(found[1]), int(found[2])) > (major, minor):
-        warnings.warn(f"{shown_text(source)}: ross_version = {version!r}: newer than the ROSS versions this reader "
+    elif not (old_major, old_minor) <= (int(found[1]), int(found[2])) <= (major, minor):
+        side = "newer" if (int(found[1]), int(found[2])) > (major, minor) else "older"
+        warnings.warn(f"{shown_text(source)}: ross_version = {version!r}: {side} than the ROSS versions this reader "
                       f"was checked on ({tested}); read as their saves are: compare its totals and modes with "
                       "ROSS's (docs/ross.md)", ModelWarning, stacklevel=3)
 
@@ -396,7 +398,7 @@ def _shaft(source: str, shafts: list, materials: dict) -> tuple[list, str, list]
     spans: dict[int, list] = {}
     shears = {}
     for key, table in shafts:
-        n = table.get("n")
+        n = table.get("n", "<missing>")     # was shown as 'n = None'
         if isinstance(n, bool) or not isinstance(n, int) or n < 0:
             raise ModelError(source, f"[{key}] n", n, "the element's first node, an integer >= 0")
         spans.setdefault(n, []).append((key, table))
@@ -498,6 +500,10 @@ def _tube(source: str, key: str, table: dict, materials: dict) -> dict:
 
 def _material(source: str, key: str, table, materials: dict) -> str:
     """Add the element's material to ``materials`` (once per distinct material); its name."""
+    if table is None:   # was 'material = None': ROSS writes the materials last, so a save cut short lacks them
+        raise ModelError(source, f"[{key}] material", "<missing>", f"a table [\"{key}\".material] with name, rho, E "
+                         "and G_s (Rotor.save writes one for each shaft element after all the elements: is the "
+                         "file cut short?)")
     if not isinstance(table, dict):
         raise ModelError(source, f"[{key}] material", table, "a table with name, rho, E and G_s")
     where = f"{key}.material"
@@ -535,7 +541,7 @@ def _elastic(source: str, where: str, table: dict) -> dict:
 
 
 def _node(source: str, key: str, table: dict, node_z: list) -> float:
-    n = table.get("n")
+    n = table.get("n", "<missing>")         # was shown as 'n = None'
     if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n < len(node_z):
         raise ModelError(source, f"[{key}] n", n, f"a node of the shaft, 0..{len(node_z) - 1}")
     return node_z[n]
@@ -598,7 +604,10 @@ def _coefficient_tables(source: str, key: str, table: dict) -> tuple[list, dict]
     if any(b <= a for a, b in zip(speeds, speeds[1:])):
         raise ModelError(source, f"[{key}] {axes[0]}", axis, "strictly increasing speeds [rad/s]")
     count = len(speeds) or 1
-    axis_text = f"[{key}] {axes[0]} = {axis!r} [rad/s]" if axes else f"[{key}] speed, which the table lacks"
+    stray = [name for name in table if name not in _BEARING_KEYS]     # 'speed_rpm' for 'speed' went unnamed
+    axis_text = f"[{key}] {axes[0]} = {axis!r} [rad/s]" if axes else f"[{key}] speed, which the table lacks" + (
+        f" (it has {', '.join(map(repr, stray[:3]))}{', ...' if len(stray) > 3 else ''}, not read here: the speeds "
+        "go in 'speed' [rad/s])" if stray else "")
     for name in _MASS_COEFFICIENTS:
         if any(v != 0.0 for v in _values(source, key, table, name, count, axis_text)):
             raise ModelError(source, f"[{key}] {name}", table[name], "0: bearing mass coefficients are not modelled")

@@ -326,6 +326,9 @@ def read_uff58(path, model, mapping):
     frfs = [s for s in sets if _function_type(s) == _FRF]
     if not frfs:
         raise InputError(_no_frf_line(path, sets))
+    kept = {id(s) for s in _complete_frfs(frfs, path)}
+    frfs = [s for s in frfs if id(s) in kept]
+    sets = [s for s in sets if _function_type(s) != _FRF or id(s) in kept]
     read = [_frf_units(s, units, path) for s in frfs]
     quantities = sorted({q for q, _ in read})
     if len(quantities) != 1:
@@ -552,7 +555,7 @@ def _check_complete(path):
     with open(path, encoding="latin-1") as handle:
         # a UTF-8 byte order mark (Windows tools write one) before the first '    -1': pyuff reads past it
         lines = handle.read().removeprefix(_BOM_LATIN1).splitlines()
-    marks = [k for k, line in enumerate(lines) if line.strip() == "-1" and line.startswith("    -1")]
+    marks = [k for k, line in enumerate(lines) if _is_delimiter(line)]
     tail = [line for line in lines[(marks[-1] + 1 if marks else 0):] if line.strip()]
     if len(marks) % 2 and len(marks) > 1:
         _warn_cut_short(path, lines, marks)
@@ -564,6 +567,19 @@ def _check_complete(path):
         line = (marks[-1] + 2) if marks else 1
         raise InputError(f"{path}: incomplete Universal File: a dataset is not closed by a '    -1' line "
                          f"(from line {line}): the file is truncated or has trailing text")
+    if any(not lines[k].rstrip().endswith(DELIMITER) for k in marks):
+        return len(lines)     # read from a copy with its delimiters as pyuff finds them (_first_lines)
+
+
+#: a dataset delimiter as the Universal File format writes it (columns 1-6) and pyuff finds it
+DELIMITER = "    -1"
+
+
+def _is_delimiter(line: str) -> bool:
+    """Whether a line of a Universal File is a dataset delimiter: ``-1`` alone within its first
+    8 columns, written ``    -1`` or not (a tab or fewer blanks before it, as hand-edited and some
+    exported files have; pyuff finds only ``    -1``)."""
+    return line.strip() == "-1" and len(line.rstrip()) <= 8
 
 
 def _warn_trailing_text(path, lines, marks) -> None:
@@ -614,7 +630,7 @@ def _read_sets(path):
     for number, s in zip(index, sets):
         if types[number] == 58:
             s["_dataset"] = number + 1                  # its place among the file's datasets, for messages
-            _as_the_header_says(uff, number, s, path)
+            _as_the_header_says(uff, number, s, path, warn_cut_short=False)
             frfs.append(s)
     return frfs, units
 
@@ -723,13 +739,17 @@ def _read_each(name, kinds, path):
 
 def _first_lines(path, count: int) -> bytes:
     """The bytes of the first ``count`` lines of ``path`` (lines as :func:`_check_complete` counts
-    them: of its Latin-1 text, a leading byte-order mark passed over), each with its line end."""
+    them: of its Latin-1 text, a leading byte-order mark passed over), each with its line end;
+    a dataset delimiter written otherwise (:func:`_is_delimiter`) written ``    -1``."""
     with open(path, "rb") as handle:
         data = handle.read()
     text = data.decode("latin-1")
     mark = len(_BOM_LATIN1) if text.startswith(_BOM_LATIN1) else 0
     kept = text[mark:].splitlines(keepends=True)[:count]
-    return data[:mark + sum(len(line) for line in kept)]
+    if all(line.rstrip().endswith(DELIMITER) for line in kept if _is_delimiter(line)):
+        return data[:mark + sum(len(line) for line in kept)]
+    written = (DELIMITER + line[len(line.rstrip("\r\n")):] if _is_delimiter(line) else line for line in kept)
+    return data[:mark] + "".join(written).encode("latin-1")
 
 
 def _without_trailing_blanks(path):
@@ -745,7 +765,7 @@ def _without_trailing_blanks(path):
     return None if stripped == data else stripped
 
 
-def _as_the_header_says(uff, number, s, path) -> None:
+def _as_the_header_says(uff, number, s, path, warn_cut_short=True) -> None:
     """A dataset 58's abscissa and values made what its header says (in place), where pyuff reads
     otherwise.
 
@@ -755,7 +775,8 @@ def _as_the_header_says(uff, number, s, path) -> None:
       to 800.5 Hz; a 4096-sample record as 4098 samples), and the bytes of a binary set's
       trailing line end values. The values beyond the count are dropped, in ASCII with a warning
       when they are not all zero; a dataset holding fewer values than its count (a file cut
-      short) is read as it is, with a warning.
+      short) is marked ``_cut_short`` and read as it is, with a warning unless
+      ``warn_cut_short`` is False (the FRF reader's :func:`_complete_frfs` says what it does).
     - Binary 58b with an uneven abscissa and double-precision ordinates (record 7 types 4 and 6):
       the UFF definition stores each abscissa value in single precision (4 bytes) before its
       8- or 16-byte ordinate; pyuff reads 8 bytes there, so the whole record was misread. The
@@ -789,8 +810,38 @@ def _as_the_header_says(uff, number, s, path) -> None:
                           f"first {count}", stacklevel=4)
         s["data"], s["x"] = data[:count], x[:count]
     elif len(data) < count:
-        warnings.warn(f"{where} holds {len(data)} of the {count} values its header (record 7) gives (the file is "
-                      f"cut short): read the {len(data)}", stacklevel=4)
+        s["_cut_short"] = True
+        if warn_cut_short:
+            warnings.warn(f"{_cut_short_words(s, number, path)}: read the {len(data)}", stacklevel=4)
+
+
+def _cut_short_words(s, number, path) -> str:
+    """``PATH: dataset K (NODES, FUNCTION) holds N of the M values its header (record 7) gives (the
+    file is cut short)``: the words on a dataset 58 holding fewer values than its count, at place
+    ``number`` (from 0) among the file's datasets."""
+    return (f"{path}: dataset {number + 1} ({_nodes(s)}, {_function_words(_function_type(s))}) holds "
+            f"{len(s['data'])} of the {int(s['num_pts'])} values its header (record 7) gives (the file is cut short)")
+
+
+def _complete_frfs(frfs, path) -> list:
+    """The FRF sets of a file (datasets 58 read by :func:`_read_sets`) without those cut short
+    (fewer values than their header counts, :func:`_as_the_header_says`), which are left out with
+    one warning line naming the first, where the file holds complete ones: one cut-short FRF used to
+    make the whole file refused ('every FRF of one speed must share the frequency lines'). Where
+    every FRF is cut short, each is read as it is, with one warning line each."""
+    import warnings
+
+    cut = [s for s in frfs if s.get("_cut_short")]
+    if len(cut) == len(frfs):
+        for s in cut:
+            warnings.warn(f"{_cut_short_words(s, s['_dataset'] - 1, path)}: read the {len(s['data'])}", stacklevel=4)
+        return frfs
+    if cut:
+        kept = len(frfs) - len(cut)
+        more = f" (and {len(cut) - 1} more FRF{'s' if len(cut) > 2 else ''})" if len(cut) > 1 else ""
+        warnings.warn(f"{_cut_short_words(cut[0], cut[0]['_dataset'] - 1, path)}{more}: left out, the {kept} "
+                      f"complete FRF{'s' if kept > 1 else ''} read", stacklevel=4)
+    return [s for s in frfs if not s.get("_cut_short")]
 
 
 def _uneven_double_values(uff, number, s, path):

@@ -120,9 +120,24 @@ class Table:
         return vec
 
 
+#: names other codes and textbooks give a model file's keys (ROSS's ``E``, ``rho``, ``odl``, ``Ip``,
+#: ``kxx``; a shaft's plain ``diameter``), too unlike them for a similarity of spelling to find:
+#: the key meant, offered where the table has it (:func:`close_key`)
+OTHER_NAMES = {
+    "E": "young_modulus", "elastic_modulus": "young_modulus", "rho": "density", "G": "shear_modulus",
+    "G_s": "shear_modulus", "nu": "poisson_ratio", "Poisson": "poisson_ratio", "poisson": "poisson_ratio",
+    "L": "length", "diameter": "outer_diameter", "od": "outer_diameter", "odl": "outer_diameter",
+    "odr": "outer_diameter", "id": "inner_diameter", "idl": "inner_diameter", "idr": "inner_diameter",
+    "bore": "inner_diameter", "Ip": "polar_inertia", "Id": "diametral_inertia", "m": "mass",
+    "n_elements": "elements", "element_size": "element_length", "kxx": "stiffness", "cxx": "damping",
+}
+
+
 def close_key(key, allowed) -> str | None:
     """The key of ``allowed`` that ``key`` is probably a typo of (``stifness`` -> ``'stiffness'``),
-    or None: the closest by :func:`difflib.get_close_matches` at a similarity of 0.75 or more.
+    or None: the closest by :func:`difflib.get_close_matches` at a similarity of 0.75 or more,
+    else the key another code's name means (:data:`OTHER_NAMES`: ``E`` -> ``'young_modulus'``)
+    where ``allowed`` has it.
 
     Parameters
     ----------
@@ -132,8 +147,12 @@ def close_key(key, allowed) -> str | None:
     """
     import difflib
 
-    close = difflib.get_close_matches(str(key), [str(a) for a in allowed], n=1, cutoff=0.75)
-    return close[0] if close else None
+    allowed = [str(a) for a in allowed]
+    close = difflib.get_close_matches(str(key), allowed, n=1, cutoff=0.75)
+    if close:
+        return close[0]
+    meant = OTHER_NAMES.get(str(key))
+    return meant if meant in allowed else None
 
 
 def unknown_key(key, allowed) -> str:

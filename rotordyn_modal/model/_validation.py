@@ -609,16 +609,29 @@ def _unbalance(table: _Table, rotor_tables, rotors) -> Unbalance:
     return _graded_unbalance(table, next(r for r in rotors if r.name == rotor), common)
 
 
+def _grade_meant(given) -> str | None:
+    """The grade a refused ``grade`` string probably means: ``"G2,5"`` (a decimal comma) or
+    ``"2.5"`` (no G) -> ``"G2.5"``; None when it is not one of them either."""
+    if not isinstance(given, str):
+        return None
+    text = given.strip().replace(",", ".")
+    grade = balance_grade(text if text[:1] in ("G", "g") else f"G{text}")
+    return None if grade is None else f"G{grade:g}"
+
+
 def _graded_unbalance(table: _Table, rotor, common) -> Unbalance:
     """An unbalance given as an ISO 21940-11 balance grade: the permissible residual unbalance
     ``G m / Omega`` of the rotor's (or the given part's) mass at its service speed."""
     if "amount" in table.data:
         raise table.error("amount", table.data["amount"], "no amount together with grade (give one "
                           "of them: the grade sets the amount)")
-    grade = balance_grade(table.data["grade"])
+    given = table.data["grade"]
+    grade = balance_grade(given)
     if grade is None:
-        raise table.error("grade", table.data["grade"], "an ISO 21940-11 balance grade: one of "
-                          + ", ".join(f"G{g:g}" for g in BALANCE_GRADES) + " (a string, or its number in mm/s)")
+        meant = _grade_meant(given)
+        raise table.error("grade", given, "an ISO 21940-11 balance grade: one of "
+                          + ", ".join(f"G{g:g}" for g in BALANCE_GRADES) + " (a string, or its number in mm/s"
+                          + (f"; did you mean {meant!r}?)" if meant else ")"))
     speed = table.number("service_speed_rpm", required=True, positive=True)
     mass = table.number("mass", default=None, positive=True)
     amount = permissible_unbalance(grade, rotor.mass if mass is None else mass, speed * math.pi / 30.0)

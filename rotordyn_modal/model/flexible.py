@@ -247,8 +247,10 @@ def _pair(table: Table, key: str, default=None):
 def _material(table: Table, key: str, known) -> Material:
     name = table.text(key, required=True)
     if name not in known:
+        alike = [k for k in known if k.strip().casefold() == name.strip().casefold()]   # 'Steel', 'steel '
         raise table.error(key, name, "the name of one of the [[materials]] "
-                          + (visible_names(known) or "(none defined: add a [[materials]] table)"))
+                          + (visible_names(known) or "(none defined: add a [[materials]] table)")
+                          + (f" (did you mean {alike[0]!r}?)" if len(alike) == 1 else ""))
     return known[name]
 
 
@@ -622,7 +624,8 @@ def size_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     """One warning line for ``shaft`` when a section (or layer) is thicker than
     :data:`PLAUSIBLE_SHAFT_DIAMETER`, most likely a diameter in mm typed for m: the thickest
     named, with the count of the others."""
-    lines = _length_lines(source, rotor, shaft) + _heavy_disk_lines(source, rotor, shaft)
+    lines = _length_lines(source, rotor, shaft) + _heavy_disk_lines(source, rotor, shaft) + \
+        _wide_disk_lines(source, rotor, shaft)
     thick = [(max(tube.outer), where) for i, section in enumerate(shaft.sections)
              for where, tube in ((f"shaft.{i}", section), *((f"shaft.{i}.layers.{k}", layer)
                                                           for k, layer in enumerate(section.layers)))
@@ -677,6 +680,20 @@ def _heavy_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
                      f"{math.sqrt(disk.polar_inertia / disk.mass):.3g} m, over {PLAUSIBLE_SHAFT_DIAMETER / 2:g} m (no "
                      "machine's disk is that wide): inertias in kg mm^2 typed for kg m^2? (model files are SI)")
     return lines
+
+
+def _wide_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
+    """One warning line for ``shaft``'s disks wider than the whole shaft (``width`` longer than
+    its length): no disk on a shaft is, while a width in mm typed for m (50 for 0.05) is, and
+    makes a disk given by its geometry that much heavier; the widest named, with the count of
+    the others."""
+    wide = [d for d in shaft.disks if d.width is not None and d.width > shaft.length]
+    if not wide:
+        return []
+    disk = max(wide, key=lambda d: d.width)
+    return [f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] width = {disk.width:g}"
+            f"{and_others(len(wide), 'disk')}: wider than the whole shaft it sits on ({shaft.length:g} m long); a "
+            "width in mm typed for m? (model files are SI)"]
 
 
 def _length_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:

@@ -175,7 +175,8 @@ def _place_labels_laid_out(ax, labels, first, count):
             maps[key] = CurveMap(ax, renderer)
         return maps[key]
 
-    def place(touching, pairs=(), broken=()):
+    def grouped(touching, pairs=(), broken=(), apart=()):
+        # the labels' groups (indices into ``labels``, the lead first) and texts of one placing
         groups = [[k] for k in range(first)] + _touching(ax, labels[first:first + count], first, touching) \
             + [[k] for k in range(first + count, len(labels))]
         for pair in pairs:              # two groups joined (:func:`_pair_long_leader`, :func:`_join_long_labels`)
@@ -183,16 +184,27 @@ def _place_labels_laid_out(ax, labels, first, count):
             if a is not b:
                 a += b
                 groups.remove(b)
+        for k in apart:                 # a circle split off its group (:func:`_split_long_labels`)
+            group = next(g for g in groups if k in g)
+            if len(group) > 1:
+                group.remove(k)
+                groups.append([k])
+        return groups, [_shared_text(labels, g, set(g) & set(broken)) for g in groups]
+
+    def place(touching, pairs=(), broken=(), apart=()):
+        groups, texts = grouped(touching, pairs, broken, apart)
         anchors = [labels[g[0]][:2] for g in groups]
-        texts = [_shared_text(labels, g, set(g) & set(broken)) for g in groups]
         members = [[labels[k][:2] for k in g[1:]] for g in groups]
         drawn = place_point_labels(ax, anchors, texts, [labels[g[0]][3] for g in groups], renderer=renderer,
                                    curves=curves(), members=members)
         for text in drawn:
             _lead_to_nearest(ax, text, members[texts.index(text.get_text())], renderer)
-            text.ucs_grouping = (touching, tuple(pairs), tuple(broken))      # how the kept labels were grouped
+            text.ucs_grouping = (touching, tuple(pairs), tuple(broken), tuple(apart))   # how the kept labels were grouped
             text.ucs_indices = groups[texts.index(text.get_text())]
-        return drawn, _crossing_leaders(ax, drawn, {t: m for t, m in zip(texts, members)}, circles)
+        out = drawn, _crossing_leaders(ax, drawn, {t: m for t, m in zip(texts, members)}, circles)
+        return out
+
+    place.texts = lambda *grouping: grouped(*grouping)[1]
 
     circles = [c[:2] for c in labels[first:first + count]]
     drawn, crossing = place(_TOUCHING)
@@ -262,20 +274,24 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
     owner = next(t for t in drawn if t.get_text() == text)
     if not hasattr(owner, "ucs_indices"):
         return False
-    touching, pairs, broken = owner.ucs_grouping
+    touching, pairs, broken, apart = owner.ucs_grouping
     circles = [label[:2] for label in labels[first:first + count]]
-    crossing = _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
+    crossing = None
     lead = owner.ucs_indices[0]
     # joined with one of the nearest circles, on one line, then on two; a shared label alone on two
     tries = [(joined, lines) for joined in _nearest_others(ax, labels, (first, count), owner.ucs_indices)
              for lines in (1, 2)] + [(None, 2)] * (len(owner.ucs_indices) > 1 and lead not in broken)
     for joined, lines in tries:
-        for t in drawn:
-            t.set_visible(False)
         group = owner.ucs_indices + ([] if joined is None else [joined])
         split = broken + ((lead,) if lines == 2 else ())
         shared = _shared_text(labels, group, lines == 2)
-        tried, _ = place(touching, pairs + ((() if joined is None else ((joined, lead),))), split)
+        grouping = (touching, pairs + ((() if joined is None else ((joined, lead),))), split, apart)
+        if shared not in place.texts(*grouping):
+            continue        # the circle joined shares a label with others: the label would name more, never kept
+        crossing = crossing or _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
+        for t in drawn:
+            t.set_visible(False)
+        tried, _ = place(*grouping)
         _shorter_leaders(ax, tried, [label[:2] for label in labels], _members(labels, first, count, tried))
         through = _crossing_leaders(ax, tried, _members(labels, first, count, tried), circles)
         after = _leader_lengths(ax, tried)

@@ -191,7 +191,8 @@ def _place_labels_laid_out(ax, labels, first, count):
                 groups.append([k])
         return groups, [_shared_text(labels, g, set(g) & set(broken)) for g in groups]
 
-    def place(touching, pairs=(), broken=(), apart=()):
+    def place(touching, pairs=(), broken=(), apart=(), counted=True):
+        # the labels drawn and (``counted``) how many of their leaders cross curves and circles
         groups, texts = grouped(touching, pairs, broken, apart)
         anchors = [labels[g[0]][:2] for g in groups]
         members = [[labels[k][:2] for k in g[1:]] for g in groups]
@@ -201,8 +202,9 @@ def _place_labels_laid_out(ax, labels, first, count):
             _lead_to_nearest(ax, text, members[texts.index(text.get_text())], renderer)
             text.ucs_grouping = (touching, tuple(pairs), tuple(broken), tuple(apart))   # how the kept labels were grouped
             text.ucs_indices = groups[texts.index(text.get_text())]
-        out = drawn, _crossing_leaders(ax, drawn, {t: m for t, m in zip(texts, members)}, circles)
-        return out
+        if not counted:
+            return drawn
+        return drawn, _crossing_leaders(ax, drawn, {t: m for t, m in zip(texts, members)}, circles)
 
     place.texts = lambda *grouping: grouped(*grouping)[1]
 
@@ -257,6 +259,7 @@ def _join_long_labels(ax, labels, crossings, drawn, place):
     for _ in range(_ROUNDS):
         before = _leader_lengths(ax, drawn)
         if not any(_join_one(ax, labels, crossings, drawn, place, (text, before))
+                   or _split_one(ax, labels, crossings, drawn, place, (text, before))
                    for text in sorted(before, key=before.get, reverse=True) if before[text] > _LONG_LEADER):
             return
 
@@ -289,28 +292,84 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
         if shared not in place.texts(*grouping):
             continue        # the circle joined shares a label with others: the label would name more, never kept
         crossing = crossing or _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
-        for t in drawn:
-            t.set_visible(False)
-        tried, _ = place(*grouping)
-        _shorter_leaders(ax, tried, [label[:2] for label in labels], _members(labels, first, count, tried))
+
+        def better(tried, after, shared=shared, lines=lines):
+            # on two lines only where that ends the misreading: the label within _LONG_LEADER of
+            # its circles and nearer them than any other (a two-line join 30 points away, kept for
+            # a point's gain, took the place that let '6956' join '8029/8514' on the fan's 1e5 ..
+            # 1e10 map)
+            return after.get(shared, np.inf) < longest and _no_leader_longer(before, after, shared) \
+                and (lines == 1 or after[shared] <= _LONG_LEADER
+                     and _names_its_own(ax, next(t for t in tried if t.get_text() == shared), labels, crossings))
+
+        if _kept_if_better(ax, labels, crossings, drawn, place, grouping, better, crossing):
+            return True
+    return False
+
+
+def _split_one(ax, labels, crossings, drawn, place, lengths) -> bool:
+    """Where :func:`_join_one` keeps no join for the shared label ``text`` (``lengths``: (text,
+    each label's leader [points])), its group split in two: its highest or its lowest speed on
+    a label of its own, the others' label on one line, then on two; kept if both new labels
+    stand nearer than ``text`` did and each nearer a circle it names than any other
+    (:func:`_names_its_own`), no other label's leader is longer (by 0.5 point) and no more
+    leaders cross curves or circles. With every bearing of fan_on_bearings chosen, no place
+    within 24 points whose leader neither runs along a line nor passes by another text was
+    left for '3394/3644/3943' (three circles on one stiffness line, 44 points away); '3943'
+    stands beside its circle and '3394/' over '3644' 18 points below. True if kept."""
+    first, count = crossings
+    text, before = lengths
+    longest = before[text]
+    owner = next(t for t in drawn if t.get_text() == text)
+    group = getattr(owner, "ucs_indices", [])
+    if len(group) < 2:
+        return False
+    touching, pairs, broken, apart = owner.ucs_grouping
+    circles = [label[:2] for label in labels[first:first + count]]
+    crossing = None
+    by_speed = sorted(group, key=lambda k: labels[k][1])
+    for alone in dict.fromkeys((by_speed[-1], by_speed[0])):
+        rest = [k for k in group if k != alone]
+        for lines in (1, 2) if len(rest) > 1 else (1,):
+            grouping = (touching, pairs, broken + ((rest[0],) if lines == 2 else ()), apart + (alone,))
+            parts = [t for t in place.texts(*grouping) if set(_words(t)) <= set(_words(text))]
+            crossing = crossing or _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
+
+            def better(tried, after, parts=parts):
+                new = [t for t in tried if t.get_text() in parts]
+                return len(new) == len(parts) == 2 and max(after[t] for t in parts) < longest \
+                    and _no_leader_longer(before, after) and all(_names_its_own(ax, t, labels, crossings) for t in new)
+
+            if _kept_if_better(ax, labels, crossings, drawn, place, grouping, better, crossing):
+                return True
+    return False
+
+
+def _kept_if_better(ax, labels, crossings, drawn, place, grouping, better, crossing) -> bool:
+    """Place the labels again grouped as ``grouping`` (the arguments of ``place``), their leaders
+    shortened (:func:`_shorter_leaders`), and keep that placing in ``drawn`` where
+    ``better(tried, after)`` (the labels placed; each one's leader [points]) and no more leaders
+    cross curves or circles than ``crossing`` (:func:`_crossing_leaders` of ``drawn``): True if
+    kept. The leaders' crossings are counted only where the lengths allow the placing (most
+    tries fail on them: the fan's 1e5 .. 1e10 N/m map placed its labels 14 times)."""
+    first, count = crossings
+    for t in drawn:
+        t.set_visible(False)
+    tried = place(*grouping, counted=False)
+    _shorter_leaders(ax, tried, [label[:2] for label in labels], _members(labels, first, count, tried))
+    after = _leader_lengths(ax, tried)
+    if better(tried, after):
+        circles = [label[:2] for label in labels[first:first + count]]
         through = _crossing_leaders(ax, tried, _members(labels, first, count, tried), circles)
-        after = _leader_lengths(ax, tried)
-        fair = _no_leader_longer(before, after, shared)
-        # on two lines only where that ends the misreading: the label within _LONG_LEADER of its
-        # circles and nearer them than any other (a two-line join 30 points away, kept for a
-        # point's gain, took the place that let '6956' join '8029/8514' on the fan's 1e5 .. 1e10 map)
-        settled = lines == 1 or after.get(shared, np.inf) <= _LONG_LEADER \
-            and _names_its_own(ax, next(t for t in tried if t.get_text() == shared), labels, crossings)
-        if after.get(shared, np.inf) < longest and fair and settled and through[0] <= crossing[0] \
-                and sum(through) <= sum(crossing):
+        if through[0] <= crossing[0] and sum(through) <= sum(crossing):
             for t in drawn:
                 t.remove()
             drawn[:] = tried
             return True
-        for t in tried:
-            t.remove()
-        for t in drawn:
-            t.set_visible(True)
+    for t in tried:
+        t.remove()
+    for t in drawn:
+        t.set_visible(True)
     return False
 
 
@@ -442,22 +501,9 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
         return
     circles = [label[:2] for label in labels[first:first + count]]
     crossing = _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
-    for t in drawn:
-        t.set_visible(False)
-    paired, _ = place(_TOUCHING, ((first + own, first + other),))
-    _shorter_leaders(ax, paired, [label[:2] for label in labels], _members(labels, first, count, paired))
-    through = _crossing_leaders(ax, paired, _members(labels, first, count, paired), circles)
-    after = _leader_lengths(ax, paired)
-    fair = _no_leader_longer(before, after)
-    if max(after.values(), default=0.0) < longest and fair and through[0] <= crossing[0] and sum(through) <= sum(crossing):
-        for t in drawn:
-            t.remove()
-        drawn[:] = paired
-        return
-    for t in paired:
-        t.remove()
-    for t in drawn:
-        t.set_visible(True)
+    _kept_if_better(ax, labels, (first, count), drawn, place, (_TOUCHING, ((first + own, first + other),)),
+                    lambda tried, after: max(after.values(), default=0.0) < longest
+                    and _no_leader_longer(before, after), crossing)
 
 
 def _members(labels, first, count, drawn) -> dict:
@@ -570,15 +616,21 @@ def _shorter_leaders(ax, drawn, points, members=None):
             box = np.array(Text.get_window_extent(text, renderer).extents)
             anchor = ax.transData.transform(text.xy)
             length = np.hypot(*(_nearest(box, anchor) - anchor))
-            if length <= _SHORT_LEADER * scale:
+            named = [tuple(text.xy)] + [tuple(p) for p in (members or {}).get(text.get_text(), [])
+                                        if tuple(p) != tuple(text.xy)]
+            group = ax.transData.transform(np.asarray(named, float))
+            if _names_another(box, group, centres, radius):
+                # nearer another circle than its own, it reads as naming that one: a place that
+                # names its own within _LONG_LEADER will do, shorter or not (the fan's '8029/',
+                # over '8514', 18.9 points up the cyan line nearer 6956's circle; 18.3 points
+                # up beside it, nearer its own)
+                length = max(length, _LONG_LEADER * scale + _STEP_POINTS * scale)
+            elif length <= _SHORT_LEADER * scale:
                 continue
             others = [np.array(Text.get_window_extent(t, renderer).extents) for t in texts if t is not text]
             leaders = [np.r_[_nearest(b, ax.transData.transform(t.xy)), ax.transData.transform(t.xy)]
                        for t, b in ((t, np.array(Text.get_window_extent(t, renderer).extents)) for t in drawn)
                        if t is not text]
-            named = [tuple(text.xy)] + [tuple(p) for p in (members or {}).get(text.get_text(), [])
-                                        if tuple(p) != tuple(text.xy)]
-            group = ax.transData.transform(np.asarray(named, float))
             best = None
             for point, target in zip(named, group):     # a shared label may lead to any of its circles
                 place = _nearer_place(box, target, length, (frame, segments, centres, radius, scale), others,
@@ -594,6 +646,18 @@ def _shorter_leaders(ax, drawn, points, members=None):
                 text.xyann = ((place[0] - anchor[0]) / scale, (place[1] - anchor[1]) / scale)
                 _start_leader_at(text, ((end[0] - place[0]) / w, (end[1] - place[1]) / h))
                 fresh.discard(text)
+
+
+def _names_another(box, group, centres, radius) -> bool:
+    """Whether the label's ``box`` [pixels] stands at least as near a point of ``centres`` (k, 2)
+    [pixels] that is not one of its own (``group`` (m, 2): the points it names, within
+    ``radius``) as near the nearest of its own: the test :func:`_nearer_place` puts on a new place."""
+    group = np.reshape(group, (-1, 2))
+    own = np.hypot(*(centres[:, None] - group[None]).transpose(2, 0, 1)).min(axis=1) <= radius
+    if own.all():
+        return False
+    near = lambda points: np.hypot(*(np.clip(points, box[:2], box[2:]) - points).T)      # noqa: E731
+    return bool(near(centres[~own]).min() <= near(group).min())
 
 
 def _nearest(box, point):

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from label_geometry import curve_segments, glyph_box, segment_box_distance
-from test_ucs_leaders42 import GAP, LEAST, POINT, SHARE, _drawn_leader, _labels, _length_along, _saved, _seen
+from test_ucs_leaders42 import DPI, GAP, LEAST, POINT, SHARE, _drawn_leader, _labels, _length_along, _saved, _seen
 
 #: a leader longer than this [points] no longer reads as joining a label to its circle
 LONG_LEADER = 24.0
@@ -75,3 +75,82 @@ def test_every_bearing_labels_stand_by_their_circles_on_clear_leaders(every_bear
                 continue
             gap = min(segment_box_distance(s, (box.x0, box.y0, box.x1, box.y1)) for s in leader)
             assert gap >= GAP * POINT, (text.get_text(), other.get_text(), round(gap / POINT, 2))
+
+
+# -- a shared label's leader re-pointed to the circle nearest its text ----------------------------
+
+def _shared_label(line=True, blocker=False):
+    """A figure (150 dpi) with a label '1234/5678' naming the circles at A = (60, 20) and B = (60,
+    50) [data], placed 2 points above y = 50 and left of B, its leader to A (steep, clear of
+    everything); ``line``: a line along y = 50 through B; ``blocker``: another text between the
+    label and B, on the way of a leader to B. (figure, axes, label, A, B)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(4.0, 3.0), dpi=DPI)
+    ax.set_xlim(0.0, 100.0)
+    ax.set_ylim(0.0, 100.0)
+    if line:
+        ax.plot([0.0, 100.0], [50.0, 50.0], color="C0", lw=1.5)
+    a, b = (60.0, 20.0), (60.0, 50.0)
+    fig.canvas.draw()
+    to_points = 72.0 / fig.dpi
+    a_px, b_px = ax.transData.transform(a), ax.transData.transform(b)
+    # the label's box starts 70 points left of B, its bottom 2 points above B
+    offset = ((b_px[0] - a_px[0]) * to_points - 70.0, (b_px[1] - a_px[1]) * to_points + 2.0)
+    label = ax.annotate("1234/5678", a, xytext=offset, textcoords="offset points", ha="left", va="bottom",
+                        fontsize="x-small", arrowprops={"arrowstyle": "-", "shrinkA": 0, "shrinkB": 2,
+                                                        "relpos": (1.0, 0.0)})
+    if blocker:
+        ax.annotate("9", b, xytext=(-16.0, 0.5), textcoords="offset points", fontsize="x-small", va="bottom")
+    return fig, ax, label, a, b
+
+
+def _ends_at(ax, text, renderer):
+    """The data point whose circle the drawn leader of ``text`` ends in (its last vertex)."""
+    end = _drawn_leader(text, renderer)[-1, 2:]
+    return ax.transData.inverted().transform(end)
+
+
+@pytest.mark.parametrize("case", ["along a line", "through a text"])
+def test_a_shared_label_is_not_re_pointed_onto_a_leader_that_breaks_a_rule(case):
+    """``_lead_to_nearest`` joins a shared label to the circle nearest its text; where that
+    leader (to B, from the label's lower right corner 2 points above the line) would run along
+    the line through B, or through the text '9' in its way, the label keeps its leader to A.
+    Before, it was re-pointed whatever: 14.5 points of it within 4 points of the line, or
+    through '9' (0.0 points from its box)."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.ucs_map import _lead_to_nearest
+
+    fig, ax, label, a, b = _shared_label(line=case == "along a line", blocker=case == "through a text")
+    fig.canvas.draw()
+    _lead_to_nearest(ax, label, [b], fig.canvas.get_renderer())
+    renderer = _saved(fig)
+    curves = curve_segments(ax)
+    anchor = ax.transData.transform(label.xy)
+    for segment in _drawn_leader(label, renderer):
+        seen = _seen(segment, anchor)
+        if seen is not None and len(curves):
+            along, size = _length_along(seen, curves), float(np.hypot(*(seen[2:] - seen[:2])))
+            assert along < max(LEAST * POINT, SHARE * size), round(along / POINT, 1)
+    for other in ax.texts:
+        if other is not label:
+            box = glyph_box(other, renderer)
+            gap = min(segment_box_distance(s, (box.x0, box.y0, box.x1, box.y1)) for s in _drawn_leader(label, renderer))
+            assert gap >= GAP * POINT, round(gap / POINT, 2)
+    assert np.allclose(_ends_at(ax, label, renderer), a, atol=3.0)
+    plt.close(fig)
+
+
+def test_a_shared_label_with_a_clear_way_is_still_led_to_its_nearest_circle():
+    """Where nothing is in the way, the leader goes to the circle nearest the text (B) as before."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.ucs_map import _lead_to_nearest
+
+    fig, ax, label, a, b = _shared_label(line=False)
+    fig.canvas.draw()
+    _lead_to_nearest(ax, label, [b], fig.canvas.get_renderer())
+    renderer = _saved(fig)
+    assert np.allclose(_ends_at(ax, label, renderer), b, atol=3.0)
+    plt.close(fig)

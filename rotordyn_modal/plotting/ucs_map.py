@@ -670,7 +670,7 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests, group=None
     step at least) that is free (:func:`_shorter_leaders`), or None; all in pixels. ``group``
     (k, 2): the points the label names (``anchor`` among them), inside whose circles its leader
     may cross lines."""
-    from ._labels import LEADER_GAP_POINTS, runs_along_each, short_of_each, widened
+    from ._labels import LEADER_GAP_POINTS, widened
 
     frame, segments, centres, radius, scale = scene
     crossing_pairs, crosses_segments = tests
@@ -702,12 +702,12 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests, group=None
         if len(centres[~own]) and np.hypot(*(np.clip(centres[~own], place[:2], place[2:]) - centres[~own]).T).min() \
                 <= distance[i]:
             continue                  # nearer another point than its own: it would name that one
-        # nor within the leader's gap of another text, nor another leader within it of the place
-        if crosses_segments(start, anchor, leaders) or any(_leader_through(start, anchor, b) for b in wide_others) \
+        # nor within the leader's gap of another text nor along a line, nor another leader
+        # within the gap of the place
+        if crosses_segments(start, anchor, leaders) or _breaks_leader_rules(start, anchor, segments, wide_others,
+                                                                             radius, scale) \
                 or (len(leaders) and np.any(crossing_pairs(leaders, widened(place, gap)))):
             continue
-        if runs_along_each(segments, start, short_of_each(start, anchor, radius), scale)[0]:
-            continue                  # along a line: read as a piece of it
         hits = _meets(start, anchor, segments) if len(segments) else np.zeros((0, 2))
         if len(hits) and np.any(np.hypot(*(hits[:, None] - group[None]).transpose(2, 0, 1)).min(axis=1)
                                 > radius + 0.5):
@@ -744,6 +744,19 @@ def _lines_through(segments, boxes, crossing_pairs):
         yield from (np.any(crossing_pairs(lines, part), axis=0) if len(lines) else np.zeros(len(part), bool))
 
 
+def _breaks_leader_rules(start, anchor, segments, others, radius, scale) -> bool:
+    """Whether the leader ``start -> anchor`` [pixels] passes through one of ``others`` (the other
+    texts' boxes (k, 4) [pixels], widened by :data:`._labels.LEADER_GAP_POINTS`: it would read as
+    touching that text) or runs along one of the drawn ``segments`` (n, 4) [pixels], its part
+    outside the circle of ``radius`` [pixels] around ``anchor`` (:func:`._labels.runs_along_each`:
+    it would read as a piece of that line); ``scale``: pixels per point."""
+    from ._labels import runs_along_each, short_of_each
+
+    if any(_leader_through(start, anchor, box) for box in others):
+        return True
+    return bool(len(segments) and runs_along_each(segments, start, short_of_each(start, anchor, radius), scale)[0])
+
+
 def _leader_through(start, end, box) -> bool:
     """Whether the segment ``start -> end`` passes through ``box`` (x0, y0, x1, y1) [pixels]:
     a leader drawn over another label."""
@@ -761,8 +774,12 @@ def _lead_to_nearest(ax, text, members, renderer):
     one nearest its text, the text staying where it is: its leader then ends at the group's edge
     and runs through none of the group's circles (the middle one of '52517/56625/62212', three
     circles 3.4 points apart on one stiffness line, drew a leader through the top circle, across
-    mode 4's line inside it)."""
+    mode 4's line inside it). Not where that leader would run along a drawn line or pass within
+    :data:`._labels.LEADER_GAP_POINTS` of another text (:func:`_breaks_leader_rules`; the
+    placer's leader, which keeps both rules, stays)."""
     from matplotlib.text import Text
+
+    from ._labels import LEADER_GAP_POINTS, _drawn_segments, widened
 
     if not members:
         return
@@ -774,8 +791,19 @@ def _lead_to_nearest(ax, text, members, renderer):
     if k == 0:
         return
     scale = ax.figure.dpi / 72.0
-    shift = (points[k] - points[0]) / scale
     end = (min(max(points[k][0], box.x0), box.x1), min(max(points[k][1], box.y0), box.y1))
+    frame = ax.get_window_extent(renderer)
+    others = []
+    for other in ax.texts:
+        if other is not text and other.get_visible() and other.get_text().strip():
+            if hasattr(other, "update_positions"):
+                other.update_positions(renderer)
+            others.append(Text.get_window_extent(other, renderer).extents)
+    if _breaks_leader_rules(np.array(end), points[k], _drawn_segments(ax, [], (frame.x0, frame.y0, frame.x1, frame.y1)),
+                            widened(np.reshape(others, (-1, 4)), LEADER_GAP_POINTS * scale),
+                            0.5 * _CIRCLE_POINTS * scale, scale):
+        return
+    shift = (points[k] - points[0]) / scale
     text.xy = tuple(members[k - 1])
     text.xyann = (text.xyann[0] - shift[0], text.xyann[1] - shift[1])
     _start_leader_at(text, ((end[0] - box.x0) / max(box.width, 1e-9), (end[1] - box.y0) / max(box.height, 1e-9)))

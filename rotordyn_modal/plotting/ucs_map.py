@@ -198,8 +198,9 @@ def _place_labels_laid_out(ax, labels, first, count):
         members = [[labels[k][:2] for k in g[1:]] for g in groups]
         drawn = place_point_labels(ax, anchors, texts, [labels[g[0]][3] for g in groups], renderer=renderer,
                                    curves=curves(), members=members)
+        known = {}                      # the lines and texts, measured once for every label
         for text in drawn:
-            _lead_to_nearest(ax, text, members[texts.index(text.get_text())], renderer)
+            _lead_to_nearest(ax, text, members[texts.index(text.get_text())], renderer, known)
             text.ucs_grouping = (touching, tuple(pairs), tuple(broken), tuple(apart))   # how the kept labels were grouped
             text.ucs_indices = groups[texts.index(text.get_text())]
         if not counted:
@@ -310,7 +311,8 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
 def _split_one(ax, labels, crossings, drawn, place, lengths) -> bool:
     """Where :func:`_join_one` keeps no join for the shared label ``text`` (``lengths``: (text,
     each label's leader [points])), its group split in two: its highest or its lowest speed on
-    a label of its own, the others' label on one line, then on two; kept if both new labels
+    a label of its own (where its circle lies on none of the others': :data:`_TOUCHING`), the
+    others' label on one line, then on two; kept if both new labels
     stand nearer than ``text`` did and each nearer a circle it names than any other
     (:func:`_names_its_own`), no other label's leader is longer (by 0.5 point) and no more
     leaders cross curves or circles. With every bearing of fan_on_bearings chosen, no place
@@ -328,7 +330,10 @@ def _split_one(ax, labels, crossings, drawn, place, lengths) -> bool:
     circles = [label[:2] for label in labels[first:first + count]]
     crossing = None
     by_speed = sorted(group, key=lambda k: labels[k][1])
-    for alone in dict.fromkeys((by_speed[-1], by_speed[0])):
+    # not a circle lying on another of the group: those share a label (:func:`_touching`)
+    touching_groups = _touching(ax, labels[first:first + count], first, _TOUCHING)
+    apart_ones = {g[0] for g in touching_groups if len(set(g) & set(group)) == 1}
+    for alone in [k for k in dict.fromkeys((by_speed[-1], by_speed[0])) if k in apart_ones]:
         rest = [k for k in group if k != alone]
         for lines in (1, 2) if len(rest) > 1 else (1,):
             grouping = (touching, pairs, broken + ((rest[0],) if lines == 2 else ()), apart + (alone,))
@@ -608,12 +613,20 @@ def _shorter_leaders(ax, drawn, points, members=None):
         centres = ax.transData.transform(np.asarray(points, float).reshape(-1, 2))
         texts = [t for t in ax.texts if t.get_visible()] + list(ax.artists)
         fresh = set()               # the labels placed for their xy as they are (unmoved since)
+        extents = {}                # each text's box as it stands (a text's layout is slow to redo)
+
+        def extent(t):
+            if t not in extents:
+                extents[t] = np.array(Text.get_window_extent(t, renderer).extents)
+            return extents[t]
+
         for text in drawn:
             for t in drawn:
                 if t not in fresh:
                     t.update_positions(renderer)
                     fresh.add(t)
-            box = np.array(Text.get_window_extent(text, renderer).extents)
+                    extents.pop(t, None)
+            box = extent(text)
             anchor = ax.transData.transform(text.xy)
             length = np.hypot(*(_nearest(box, anchor) - anchor))
             named = [tuple(text.xy)] + [tuple(p) for p in (members or {}).get(text.get_text(), [])
@@ -627,10 +640,9 @@ def _shorter_leaders(ax, drawn, points, members=None):
                 length = max(length, _LONG_LEADER * scale + _STEP_POINTS * scale)
             elif length <= _SHORT_LEADER * scale:
                 continue
-            others = [np.array(Text.get_window_extent(t, renderer).extents) for t in texts if t is not text]
-            leaders = [np.r_[_nearest(b, ax.transData.transform(t.xy)), ax.transData.transform(t.xy)]
-                       for t, b in ((t, np.array(Text.get_window_extent(t, renderer).extents)) for t in drawn)
-                       if t is not text]
+            others = [extent(t) for t in texts if t is not text]
+            leaders = [np.r_[_nearest(extent(t), ax.transData.transform(t.xy)), ax.transData.transform(t.xy)]
+                       for t in drawn if t is not text]
             best = None
             for point, target in zip(named, group):     # a shared label may lead to any of its circles
                 place = _nearer_place(box, target, length, (frame, segments, centres, radius, scale), others,
@@ -769,17 +781,18 @@ def _overlap(a, b):
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
-def _lead_to_nearest(ax, text, members, renderer):
+def _lead_to_nearest(ax, text, members, renderer, known=None):
     """Join a label naming several circles (``members``: the others', data coordinates) to the
     one nearest its text, the text staying where it is: its leader then ends at the group's edge
     and runs through none of the group's circles (the middle one of '52517/56625/62212', three
     circles 3.4 points apart on one stiffness line, drew a leader through the top circle, across
     mode 4's line inside it). Not where that leader would run along a drawn line or pass within
     :data:`._labels.LEADER_GAP_POINTS` of another text (:func:`_breaks_leader_rules`; the
-    placer's leader, which keeps both rules, stays)."""
+    placer's leader, which keeps both rules, stays). ``known``: a dict keeping
+    :func:`_leader_scene` for the next labels (their texts stay where they are), or None."""
     from matplotlib.text import Text
 
-    from ._labels import LEADER_GAP_POINTS, _drawn_segments, widened
+    from ._labels import LEADER_GAP_POINTS, widened
 
     if not members:
         return
@@ -792,21 +805,35 @@ def _lead_to_nearest(ax, text, members, renderer):
         return
     scale = ax.figure.dpi / 72.0
     end = (min(max(points[k][0], box.x0), box.x1), min(max(points[k][1], box.y0), box.y1))
-    frame = ax.get_window_extent(renderer)
-    others = []
-    for other in ax.texts:
-        if other is not text and other.get_visible() and other.get_text().strip():
-            if hasattr(other, "update_positions"):
-                other.update_positions(renderer)
-            others.append(Text.get_window_extent(other, renderer).extents)
-    if _breaks_leader_rules(np.array(end), points[k], _drawn_segments(ax, [], (frame.x0, frame.y0, frame.x1, frame.y1)),
-                            widened(np.reshape(others, (-1, 4)), LEADER_GAP_POINTS * scale),
+    known = {} if known is None else known
+    if "scene" not in known:
+        known["scene"] = _leader_scene(ax, renderer)
+    segments, boxes = known["scene"]
+    others = np.reshape([b for t, b in boxes.items() if t is not text], (-1, 4))
+    if _breaks_leader_rules(np.array(end), points[k], segments, widened(others, LEADER_GAP_POINTS * scale),
                             0.5 * _CIRCLE_POINTS * scale, scale):
         return
     shift = (points[k] - points[0]) / scale
     text.xy = tuple(members[k - 1])
     text.xyann = (text.xyann[0] - shift[0], text.xyann[1] - shift[1])
     _start_leader_at(text, ((end[0] - box.x0) / max(box.width, 1e-9), (end[1] - box.y0) / max(box.height, 1e-9)))
+
+
+def _leader_scene(ax, renderer):
+    """What :func:`_breaks_leader_rules` measures a leader against in ``ax`` as ``renderer`` lays
+    it out: the drawn lines' segments (n, 4) and each visible text's box (text -> (4,)), pixels."""
+    from matplotlib.text import Text
+
+    from ._labels import _drawn_segments
+
+    frame = ax.get_window_extent(renderer)
+    boxes = {}
+    for other in ax.texts:
+        if other.get_visible() and other.get_text().strip():
+            if hasattr(other, "update_positions"):
+                other.update_positions(renderer)
+            boxes[other] = np.array(Text.get_window_extent(other, renderer).extents)
+    return _drawn_segments(ax, [], (frame.x0, frame.y0, frame.x1, frame.y1)), boxes
 
 
 def _start_leader_at(text, relpos):

@@ -290,8 +290,6 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
         split = broken + ((lead,) if lines == 2 else ())
         shared = _shared_text(labels, group, lines == 2)
         grouping = (touching, pairs + ((() if joined is None else ((joined, lead),))), split, apart)
-        if shared not in place.texts(*grouping):
-            continue        # the circle joined shares a label with others: the label would name more, never kept
         crossing = crossing or _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
 
         def better(tried, after, shared=shared, lines=lines):

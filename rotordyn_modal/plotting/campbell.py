@@ -8,7 +8,8 @@ from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, BoxRows, CurveMap, box_distance, box_distances, boxes_around_array,
                       column_positions, crossing_pairs, cuts, cuts_each, draw_time_layout, LEADER_GAP_POINTS,
                       edge_label_boxes, exits_of_orders, first_free_box, font_points, lay_out_again_when,
-                      along_each, nearest_each, nearest_in, operating_band, segment_bounds, set_if_changed, text_size,
+                      ALONG_DEGREES, nearest_each, nearest_in, operating_band, runs_along_each, segment_bounds,
+                      set_if_changed, text_size,
                       _drawn_segments, _overlap, _ROW_SPLIT, _segments_crossed, _short_orders, touching_groups)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
@@ -68,15 +69,12 @@ _ACROSS = (-0.2, 0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0, 1.2)
 #: widths) each side of the circle (:meth:`_CampbellLabels._wider_box`); where none has either,
 #: the speed goes to the note: a leader across another mode's curve reads as naming that mode
 _WIDE_COLUMNS = 4
-#: a leader line within this many points of a mode's curve, at an angle below
-#: :data:`_ALONG_DEGREES` to it, over :data:`_ALONG_POINTS` or more and :data:`_ALONG_SHARE` of its
-#: length or more, runs along that curve: it reads as a piece of it or as a second curve beside it
+#: a leader line that runs along a mode's curve (:data:`~._labels.ALONG_REACH_POINTS` and the
+#: rest: :func:`~._labels.runs_along_each`) reads as a piece of it or as a second curve beside it
 #: (flexible_pump_on_mounts' '700' hung 40 points right of its circle on a leader 3.5 degrees off
 #: mode 5's line and under 3 points from it). No label takes such a leader: a box with a shorter
-#: or steeper one does, else the speed goes to the note. (Nearer than about 4 points, two thin
-#: lines read as one doubled line; within 15 degrees, as parallel over a label's width.)
-_ALONG_REACH_POINTS, _ALONG_DEGREES, _ALONG_POINTS, _ALONG_SHARE = 4.0, 15.0, 8.0, 1 / 3
-#: the same beside an order line, within this angle: an order line runs straight through every
+#: or steeper one does, else the speed goes to the note. Beside an order line the same within
+#: this angle [degrees] (not :data:`~._labels.ALONG_DEGREES`): an order line runs straight through every
 #: critical speed's circle, steep at low speeds, where the short steep leaders go; a leader a few
 #: degrees off it reads as a second order line (unstable_cross_coupled's '5.76' Hz, straight up
 #: 1 to 2 points beside the 2X line), one 10 degrees off opens away from it (gear_machine's '561'
@@ -1457,15 +1455,14 @@ class _CampbellLabels:
 
     def _runs_along_each(self, starts, ends):
         """Whether each leader ``starts[k] -> ends[k]`` ((n, 2), axes fraction; as drawn) runs
-        along a mode's curve or an order line (:data:`_ALONG_REACH_POINTS`,
-        :data:`_ALONG_ORDER_DEGREES`; :func:`~._labels.along_each`). Mask (n,)."""
+        along a mode's curve or an order line (:func:`~._labels.runs_along_each`; beside an order
+        line within :data:`_ALONG_ORDER_DEGREES`). Mask (n,)."""
         runs = np.zeros(len(starts), bool)
-        for (segments, origin, size, bounds), degrees in ((self._mode_map(), _ALONG_DEGREES),
+        for (segments, origin, size, bounds), degrees in ((self._mode_map(), ALONG_DEGREES),
                                                           (self._order_map(), _ALONG_ORDER_DEGREES)):
             scale = np.asarray(size, float)
             starts_px, ends_px = np.asarray(origin) + starts * scale, np.asarray(origin) + ends * scale
-            along = along_each(segments, starts_px, ends_px, _ALONG_REACH_POINTS * self.points, degrees, bounds)
-            runs |= along >= np.maximum(_ALONG_POINTS * self.points, _ALONG_SHARE * np.hypot(*(ends_px - starts_px).T))
+            runs |= runs_along_each(segments, starts_px, ends_px, self.points, degrees, bounds)
         return runs
 
     def _order_map(self):

@@ -162,8 +162,21 @@ def _place_labels_laid_out(ax, labels, first, count):
     from ._labels import place_point_labels
 
     renderer = _laid_out(ax.figure)
+    maps = {}
 
-    def place(touching, pairs=(), broken=()):
+    def curves():
+        # the curves as drawn stay where they are while labels are placed again and again (joins,
+        # pairs): one map for each place of the axes, its answers about leaders kept
+        # (:meth:`._labels.CurveMap.cut`, :meth:`._labels.CurveMap.runs_along`)
+        from ._labels import CurveMap
+
+        key = (float(ax.figure.dpi), tuple(ax.get_window_extent(renderer).extents.tolist()))
+        if key not in maps:
+            maps[key] = CurveMap(ax, renderer)
+        return maps[key]
+
+    def grouped(touching, pairs=(), broken=(), apart=()):
+        # the labels' groups (indices into ``labels``, the lead first) and texts of one placing
         groups = [[k] for k in range(first)] + _touching(ax, labels[first:first + count], first, touching) \
             + [[k] for k in range(first + count, len(labels))]
         for pair in pairs:              # two groups joined (:func:`_pair_long_leader`, :func:`_join_long_labels`)
@@ -171,16 +184,30 @@ def _place_labels_laid_out(ax, labels, first, count):
             if a is not b:
                 a += b
                 groups.remove(b)
+        for k in apart:                 # a circle split off its group (:func:`_split_long_labels`)
+            group = next(g for g in groups if k in g)
+            if len(group) > 1:
+                group.remove(k)
+                groups.append([k])
+        return groups, [_shared_text(labels, g, set(g) & set(broken)) for g in groups]
+
+    def place(touching, pairs=(), broken=(), apart=(), counted=True):
+        # the labels drawn and (``counted``) how many of their leaders cross curves and circles
+        groups, texts = grouped(touching, pairs, broken, apart)
         anchors = [labels[g[0]][:2] for g in groups]
-        texts = [_shared_text(labels, g, set(g) & set(broken)) for g in groups]
         members = [[labels[k][:2] for k in g[1:]] for g in groups]
         drawn = place_point_labels(ax, anchors, texts, [labels[g[0]][3] for g in groups], renderer=renderer,
-                                   members=members)
+                                   curves=curves(), members=members)
+        known = {}                      # the lines and texts, measured once for every label
         for text in drawn:
-            _lead_to_nearest(ax, text, members[texts.index(text.get_text())], renderer)
-            text.ucs_grouping = (touching, tuple(pairs), tuple(broken))      # how the kept labels were grouped
+            _lead_to_nearest(ax, text, members[texts.index(text.get_text())], renderer, known)
+            text.ucs_grouping = (touching, tuple(pairs), tuple(broken), tuple(apart))   # how the kept labels were grouped
             text.ucs_indices = groups[texts.index(text.get_text())]
+        if not counted:
+            return drawn
         return drawn, _crossing_leaders(ax, drawn, {t: m for t, m in zip(texts, members)}, circles)
+
+    place.texts = lambda *grouping: grouped(*grouping)[1]
 
     circles = [c[:2] for c in labels[first:first + count]]
     drawn, crossing = place(_TOUCHING)
@@ -233,6 +260,7 @@ def _join_long_labels(ax, labels, crossings, drawn, place):
     for _ in range(_ROUNDS):
         before = _leader_lengths(ax, drawn)
         if not any(_join_one(ax, labels, crossings, drawn, place, (text, before))
+                   or _split_one(ax, labels, crossings, drawn, place, (text, before))
                    for text in sorted(before, key=before.get, reverse=True) if before[text] > _LONG_LEADER):
             return
 
@@ -250,39 +278,101 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
     owner = next(t for t in drawn if t.get_text() == text)
     if not hasattr(owner, "ucs_indices"):
         return False
-    touching, pairs, broken = owner.ucs_grouping
+    touching, pairs, broken, apart = owner.ucs_grouping
     circles = [label[:2] for label in labels[first:first + count]]
-    crossing = _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
+    crossing = None
     lead = owner.ucs_indices[0]
     # joined with one of the nearest circles, on one line, then on two; a shared label alone on two
     tries = [(joined, lines) for joined in _nearest_others(ax, labels, (first, count), owner.ucs_indices)
              for lines in (1, 2)] + [(None, 2)] * (len(owner.ucs_indices) > 1 and lead not in broken)
     for joined, lines in tries:
-        for t in drawn:
-            t.set_visible(False)
         group = owner.ucs_indices + ([] if joined is None else [joined])
         split = broken + ((lead,) if lines == 2 else ())
         shared = _shared_text(labels, group, lines == 2)
-        tried, _ = place(touching, pairs + ((() if joined is None else ((joined, lead),))), split)
-        _shorter_leaders(ax, tried, [label[:2] for label in labels], _members(labels, first, count, tried))
+        grouping = (touching, pairs + ((() if joined is None else ((joined, lead),))), split, apart)
+        crossing = crossing or _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
+
+        def better(tried, after, shared=shared, lines=lines):
+            # on two lines only where that ends the misreading: the label within _LONG_LEADER of
+            # its circles and nearer them than any other (a two-line join 30 points away, kept for
+            # a point's gain, took the place that let '6956' join '8029/8514' on the fan's 1e5 ..
+            # 1e10 map)
+            return after.get(shared, np.inf) < longest and _no_leader_longer(before, after, shared) \
+                and (lines == 1 or after[shared] <= _LONG_LEADER
+                     and _names_its_own(ax, next(t for t in tried if t.get_text() == shared), labels, crossings))
+
+        if _kept_if_better(ax, labels, crossings, drawn, place, grouping, better, crossing):
+            return True
+    return False
+
+
+def _split_one(ax, labels, crossings, drawn, place, lengths) -> bool:
+    """Where :func:`_join_one` keeps no join for the shared label ``text`` (``lengths``: (text,
+    each label's leader [points])), its group split in two: its highest or its lowest speed on
+    a label of its own (where its circle lies on none of the others': :data:`_TOUCHING`), the
+    others' label on one line, then on two; kept if both new labels
+    stand nearer than ``text`` did and each nearer a circle it names than any other
+    (:func:`_names_its_own`), no other label's leader is longer (by 0.5 point) and no more
+    leaders cross curves or circles. With every bearing of fan_on_bearings chosen, no place
+    within 24 points whose leader neither runs along a line nor passes by another text was
+    left for '3394/3644/3943' (three circles on one stiffness line, 44 points away); '3943'
+    stands beside its circle and '3394/' over '3644' 18 points below. True if kept."""
+    first, count = crossings
+    text, before = lengths
+    longest = before[text]
+    owner = next(t for t in drawn if t.get_text() == text)
+    group = getattr(owner, "ucs_indices", [])
+    if len(group) < 2:
+        return False
+    touching, pairs, broken, apart = owner.ucs_grouping
+    circles = [label[:2] for label in labels[first:first + count]]
+    crossing = None
+    by_speed = sorted(group, key=lambda k: labels[k][1])
+    # not a circle lying on another of the group: those share a label (:func:`_touching`)
+    touching_groups = _touching(ax, labels[first:first + count], first, _TOUCHING)
+    apart_ones = {g[0] for g in touching_groups if len(set(g) & set(group)) == 1}
+    for alone in [k for k in dict.fromkeys((by_speed[-1], by_speed[0])) if k in apart_ones]:
+        rest = [k for k in group if k != alone]
+        for lines in (1, 2) if len(rest) > 1 else (1,):
+            grouping = (touching, pairs, broken + ((rest[0],) if lines == 2 else ()), apart + (alone,))
+            parts = [t for t in place.texts(*grouping) if set(_words(t)) <= set(_words(text))]
+            crossing = crossing or _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
+
+            def better(tried, after, parts=parts):
+                new = [t for t in tried if t.get_text() in parts]
+                return len(new) == len(parts) == 2 and max(after[t] for t in parts) < longest \
+                    and _no_leader_longer(before, after) and all(_names_its_own(ax, t, labels, crossings) for t in new)
+
+            if _kept_if_better(ax, labels, crossings, drawn, place, grouping, better, crossing):
+                return True
+    return False
+
+
+def _kept_if_better(ax, labels, crossings, drawn, place, grouping, better, crossing) -> bool:
+    """Place the labels again grouped as ``grouping`` (the arguments of ``place``), their leaders
+    shortened (:func:`_shorter_leaders`), and keep that placing in ``drawn`` where
+    ``better(tried, after)`` (the labels placed; each one's leader [points]) and no more leaders
+    cross curves or circles than ``crossing`` (:func:`_crossing_leaders` of ``drawn``): True if
+    kept. The leaders' crossings are counted only where the lengths allow the placing (most
+    tries fail on them: the fan's 1e5 .. 1e10 N/m map placed its labels 14 times)."""
+    first, count = crossings
+    for t in drawn:
+        t.set_visible(False)
+    tried = place(*grouping, counted=False)
+    _shorter_leaders(ax, tried, [label[:2] for label in labels], _members(labels, first, count, tried))
+    after = _leader_lengths(ax, tried)
+    if better(tried, after):
+        circles = [label[:2] for label in labels[first:first + count]]
         through = _crossing_leaders(ax, tried, _members(labels, first, count, tried), circles)
-        after = _leader_lengths(ax, tried)
-        fair = _no_leader_longer(before, after, shared)
-        # on two lines only where that ends the misreading: the label within _LONG_LEADER of its
-        # circles and nearer them than any other (a two-line join 30 points away, kept for a
-        # point's gain, took the place that let '6956' join '8029/8514' on the fan's 1e5 .. 1e10 map)
-        settled = lines == 1 or after.get(shared, np.inf) <= _LONG_LEADER \
-            and _names_its_own(ax, next(t for t in tried if t.get_text() == shared), labels, crossings)
-        if after.get(shared, np.inf) < longest and fair and settled and through[0] <= crossing[0] \
-                and sum(through) <= sum(crossing):
+        if through[0] <= crossing[0] and sum(through) <= sum(crossing):
             for t in drawn:
                 t.remove()
             drawn[:] = tried
             return True
-        for t in tried:
-            t.remove()
-        for t in drawn:
-            t.set_visible(True)
+    for t in tried:
+        t.remove()
+    for t in drawn:
+        t.set_visible(True)
     return False
 
 
@@ -414,22 +504,9 @@ def _pair_long_leader(ax, labels, first, count, drawn, place):
         return
     circles = [label[:2] for label in labels[first:first + count]]
     crossing = _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
-    for t in drawn:
-        t.set_visible(False)
-    paired, _ = place(_TOUCHING, ((first + own, first + other),))
-    _shorter_leaders(ax, paired, [label[:2] for label in labels], _members(labels, first, count, paired))
-    through = _crossing_leaders(ax, paired, _members(labels, first, count, paired), circles)
-    after = _leader_lengths(ax, paired)
-    fair = _no_leader_longer(before, after)
-    if max(after.values(), default=0.0) < longest and fair and through[0] <= crossing[0] and sum(through) <= sum(crossing):
-        for t in drawn:
-            t.remove()
-        drawn[:] = paired
-        return
-    for t in paired:
-        t.remove()
-    for t in drawn:
-        t.set_visible(True)
+    _kept_if_better(ax, labels, (first, count), drawn, place, (_TOUCHING, ((first + own, first + other),)),
+                    lambda tried, after: max(after.values(), default=0.0) < longest
+                    and _no_leader_longer(before, after), crossing)
 
 
 def _members(labels, first, count, drawn) -> dict:
@@ -512,8 +589,10 @@ def _shorter_leaders(ax, drawn, points, members=None):
     line, stood 41 and 19 points away down the brown curve, '4184' 17 points away while a
     place beside its circle was free): a place inside the axes, clear of every other text, of
     the circles and squares drawn (``points``: the labelled points, data coordinates) and of
-    every line, whose leader crosses no line outside the point's own circle, no other leader,
-    no other label and no other circle. A label naming several circles (``members``: text ->
+    every line, whose leader crosses no line outside the point's own circle, runs along none
+    (:func:`._labels.runs_along_each`), passes :data:`._labels.LEADER_GAP_POINTS` clear of every
+    other text (and no other leader as near the place), and crosses no other leader and no
+    other circle. A label naming several circles (``members``: text ->
     their points, :func:`_members`) may lead to any of them, its leader crossing lines inside any. Measured on the figure laid out at :data:`SAVED_DPI`; a label with no
     nearer place stays where :func:`_place_labels` put it."""
     from matplotlib.text import Text
@@ -532,23 +611,36 @@ def _shorter_leaders(ax, drawn, points, members=None):
         centres = ax.transData.transform(np.asarray(points, float).reshape(-1, 2))
         texts = [t for t in ax.texts if t.get_visible()] + list(ax.artists)
         fresh = set()               # the labels placed for their xy as they are (unmoved since)
+        extents = {}                # each text's box as it stands (a text's layout is slow to redo)
+
+        def extent(t):
+            if t not in extents:
+                extents[t] = np.array(Text.get_window_extent(t, renderer).extents)
+            return extents[t]
+
         for text in drawn:
             for t in drawn:
                 if t not in fresh:
                     t.update_positions(renderer)
                     fresh.add(t)
-            box = np.array(Text.get_window_extent(text, renderer).extents)
+                    extents.pop(t, None)
+            box = extent(text)
             anchor = ax.transData.transform(text.xy)
             length = np.hypot(*(_nearest(box, anchor) - anchor))
-            if length <= _SHORT_LEADER * scale:
-                continue
-            others = [np.array(Text.get_window_extent(t, renderer).extents) for t in texts if t is not text]
-            leaders = [np.r_[_nearest(b, ax.transData.transform(t.xy)), ax.transData.transform(t.xy)]
-                       for t, b in ((t, np.array(Text.get_window_extent(t, renderer).extents)) for t in drawn)
-                       if t is not text]
             named = [tuple(text.xy)] + [tuple(p) for p in (members or {}).get(text.get_text(), [])
                                         if tuple(p) != tuple(text.xy)]
             group = ax.transData.transform(np.asarray(named, float))
+            if _names_another(box, group, centres, radius):
+                # nearer another circle than its own, it reads as naming that one: a place that
+                # names its own within _LONG_LEADER will do, shorter or not (the fan's '8029/',
+                # over '8514', 18.9 points up the cyan line nearer 6956's circle; 18.3 points
+                # up beside it, nearer its own)
+                length = max(length, _LONG_LEADER * scale + _STEP_POINTS * scale)
+            elif length <= _SHORT_LEADER * scale:
+                continue
+            others = [extent(t) for t in texts if t is not text]
+            leaders = [np.r_[_nearest(extent(t), ax.transData.transform(t.xy)), ax.transData.transform(t.xy)]
+                       for t in drawn if t is not text]
             best = None
             for point, target in zip(named, group):     # a shared label may lead to any of its circles
                 place = _nearer_place(box, target, length, (frame, segments, centres, radius, scale), others,
@@ -562,8 +654,20 @@ def _shorter_leaders(ax, drawn, points, members=None):
                 end = _nearest(place, anchor)
                 text.xy = point
                 text.xyann = ((place[0] - anchor[0]) / scale, (place[1] - anchor[1]) / scale)
-                text.arrowprops["relpos"] = ((end[0] - place[0]) / w, (end[1] - place[1]) / h)
+                _start_leader_at(text, ((end[0] - place[0]) / w, (end[1] - place[1]) / h))
                 fresh.discard(text)
+
+
+def _names_another(box, group, centres, radius) -> bool:
+    """Whether the label's ``box`` [pixels] stands at least as near a point of ``centres`` (k, 2)
+    [pixels] that is not one of its own (``group`` (m, 2): the points it names, within
+    ``radius``) as near the nearest of its own: the test :func:`_nearer_place` puts on a new place."""
+    group = np.reshape(group, (-1, 2))
+    own = np.hypot(*(centres[:, None] - group[None]).transpose(2, 0, 1)).min(axis=1) <= radius
+    if own.all():
+        return False
+    near = lambda points: np.hypot(*(np.clip(points, box[:2], box[2:]) - points).T)      # noqa: E731
+    return bool(near(centres[~own]).min() <= near(group).min())
 
 
 def _nearest(box, point):
@@ -576,8 +680,12 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests, group=None
     step at least) that is free (:func:`_shorter_leaders`), or None; all in pixels. ``group``
     (k, 2): the points the label names (``anchor`` among them), inside whose circles its leader
     may cross lines."""
+    from ._labels import LEADER_GAP_POINTS, widened
+
     frame, segments, centres, radius, scale = scene
     crossing_pairs, crosses_segments = tests
+    gap = LEADER_GAP_POINTS * scale
+    wide_others = widened(others, gap)
     w, h = box[2] - box[0], box[3] - box[1]
     step, clear, line = _STEP_POINTS * scale, _CLEAR_POINTS * scale, _LINE_POINTS * scale
     reach = np.arange(-length - w, length + step, step)
@@ -604,7 +712,11 @@ def _nearer_place(box, anchor, length, scene, others, leaders, tests, group=None
         if len(centres[~own]) and np.hypot(*(np.clip(centres[~own], place[:2], place[2:]) - centres[~own]).T).min() \
                 <= distance[i]:
             continue                  # nearer another point than its own: it would name that one
-        if crosses_segments(start, anchor, leaders) or any(_leader_through(start, anchor, b) for b in others):
+        # nor within the leader's gap of another text nor along a line, nor another leader
+        # within the gap of the place
+        if crosses_segments(start, anchor, leaders) or _breaks_leader_rules(start, anchor, segments, wide_others,
+                                                                             radius, scale) \
+                or (len(leaders) and np.any(crossing_pairs(leaders, widened(place, gap)))):
             continue
         hits = _meets(start, anchor, segments) if len(segments) else np.zeros((0, 2))
         if len(hits) and np.any(np.hypot(*(hits[:, None] - group[None]).transpose(2, 0, 1)).min(axis=1)
@@ -642,6 +754,19 @@ def _lines_through(segments, boxes, crossing_pairs):
         yield from (np.any(crossing_pairs(lines, part), axis=0) if len(lines) else np.zeros(len(part), bool))
 
 
+def _breaks_leader_rules(start, anchor, segments, others, radius, scale) -> bool:
+    """Whether the leader ``start -> anchor`` [pixels] passes through one of ``others`` (the other
+    texts' boxes (k, 4) [pixels], widened by :data:`._labels.LEADER_GAP_POINTS`: it would read as
+    touching that text) or runs along one of the drawn ``segments`` (n, 4) [pixels], its part
+    outside the circle of ``radius`` [pixels] around ``anchor`` (:func:`._labels.runs_along_each`:
+    it would read as a piece of that line); ``scale``: pixels per point."""
+    from ._labels import runs_along_each, short_of_each
+
+    if any(_leader_through(start, anchor, box) for box in others):
+        return True
+    return bool(len(segments) and runs_along_each(segments, start, short_of_each(start, anchor, radius), scale)[0])
+
+
 def _leader_through(start, end, box) -> bool:
     """Whether the segment ``start -> end`` passes through ``box`` (x0, y0, x1, y1) [pixels]:
     a leader drawn over another label."""
@@ -654,13 +779,18 @@ def _overlap(a, b):
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
-def _lead_to_nearest(ax, text, members, renderer):
+def _lead_to_nearest(ax, text, members, renderer, known=None):
     """Join a label naming several circles (``members``: the others', data coordinates) to the
     one nearest its text, the text staying where it is: its leader then ends at the group's edge
     and runs through none of the group's circles (the middle one of '52517/56625/62212', three
     circles 3.4 points apart on one stiffness line, drew a leader through the top circle, across
-    mode 4's line inside it)."""
+    mode 4's line inside it). Not where that leader would run along a drawn line or pass within
+    :data:`._labels.LEADER_GAP_POINTS` of another text (:func:`_breaks_leader_rules`; the
+    placer's leader, which keeps both rules, stays). ``known``: a dict keeping
+    :func:`_leader_scene` for the next labels (their texts stay where they are), or None."""
     from matplotlib.text import Text
+
+    from ._labels import LEADER_GAP_POINTS, widened
 
     if not members:
         return
@@ -672,11 +802,46 @@ def _lead_to_nearest(ax, text, members, renderer):
     if k == 0:
         return
     scale = ax.figure.dpi / 72.0
-    shift = (points[k] - points[0]) / scale
     end = (min(max(points[k][0], box.x0), box.x1), min(max(points[k][1], box.y0), box.y1))
+    known = {} if known is None else known
+    if "scene" not in known:
+        known["scene"] = _leader_scene(ax, renderer)
+    segments, boxes = known["scene"]
+    others = np.reshape([b for t, b in boxes.items() if t is not text], (-1, 4))
+    if _breaks_leader_rules(np.array(end), points[k], segments, widened(others, LEADER_GAP_POINTS * scale),
+                            0.5 * _CIRCLE_POINTS * scale, scale):
+        return
+    shift = (points[k] - points[0]) / scale
     text.xy = tuple(members[k - 1])
     text.xyann = (text.xyann[0] - shift[0], text.xyann[1] - shift[1])
-    text.arrowprops["relpos"] = ((end[0] - box.x0) / max(box.width, 1e-9), (end[1] - box.y0) / max(box.height, 1e-9))
+    _start_leader_at(text, ((end[0] - box.x0) / max(box.width, 1e-9), (end[1] - box.y0) / max(box.height, 1e-9)))
+
+
+def _leader_scene(ax, renderer):
+    """What :func:`_breaks_leader_rules` measures a leader against in ``ax`` as ``renderer`` lays
+    it out: the drawn lines' segments (n, 4) and each visible text's box (text -> (4,)), pixels."""
+    from matplotlib.text import Text
+
+    from ._labels import _drawn_segments
+
+    frame = ax.get_window_extent(renderer)
+    boxes = {}
+    for other in ax.texts:
+        if other.get_visible() and other.get_text().strip():
+            if hasattr(other, "update_positions"):
+                other.update_positions(renderer)
+            boxes[other] = np.array(Text.get_window_extent(other, renderer).extents)
+    return _drawn_segments(ax, [], (frame.x0, frame.y0, frame.x1, frame.y1)), boxes
+
+
+def _start_leader_at(text, relpos):
+    """Start the leader of the annotation ``text`` at ``relpos`` (fractions of its box) as drawn:
+    matplotlib reads ``arrowprops['relpos']`` once, when the annotation is made (into its
+    ``_arrow_relpos``), so a label moved after that drew its leader from its old corner (the fan's
+    '3608/3939/3943/3959/4184', moved below its circle, from its lower left corner, against the
+    curve number '8', where the leader measured went from its upper left one)."""
+    text.arrowprops["relpos"] = relpos
+    text._arrow_relpos = relpos
 
 
 def _crossing_leaders(ax, drawn, members, centres):

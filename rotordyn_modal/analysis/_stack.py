@@ -225,12 +225,13 @@ class Stack:
 
     def at(self, variants, x) -> np.ndarray:
         """State matrices of variant ``variants[p]`` at speed ``x[p]``, shape (P, n_s, n_s)."""
-        out = self.A0[variants] + x[:, None, None] * self.A1[variants]
-        if self.dependent:
+        if self.dependent:              # each form's own (A0 + Omega A1 made there, once)
+            out = np.empty((len(x),) + self.A0.shape[1:])
             for v in np.unique(variants):
                 rows = variants == v
                 out[rows] = self.forms[v].at(x[rows])
-        return out
+            return out
+        return self.A0[variants] + x[:, None, None] * self.A1[variants]
 
     def damping_stiffness(self, variants, x):
         """``C + Omega G`` (P, n, n) and ``K`` of variant ``variants[p]`` at ``x[p]``; with constant
@@ -591,7 +592,7 @@ def _variant_parts(variants, item_bytes: int):
 #: (:func:`model_constants`): at most a few MB each. ROSS's ``Rotor`` keeps its ``M0``, ``K0`` and
 #: ``G0`` the same way; a small model's Campbell diagram of 21 speeds spent a fifth of its time
 #: building them again (rotor_example: 3 of 15 ms)
-KEPT_DOF = 100
+KEPT_DOF = 256
 
 #: how many models keep their constants at once (the most recently used): each is held, with its
 #: model, until it is pushed out

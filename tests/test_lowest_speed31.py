@@ -84,4 +84,4 @@ def test_hermitian_form_is_kept_per_stack():
     damped = rdm.Model.from_dict(read_ross_rotor("tests/data/ross/compressor_example.toml"))
     damped_stack = Stack([damped])
     assert _lowest._hermitian_form(damped_stack) is None
-    assert damped_stack.__dict__["_lowest_hermitian"] is None
+    assert damped_stack.constants["_lowest_hermitian"] is None

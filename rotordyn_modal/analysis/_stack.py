@@ -225,12 +225,13 @@ class Stack:
 
     def at(self, variants, x) -> np.ndarray:
         """State matrices of variant ``variants[p]`` at speed ``x[p]``, shape (P, n_s, n_s)."""
-        out = self.A0[variants] + x[:, None, None] * self.A1[variants]
-        if self.dependent:
+        if self.dependent:              # each form's own (A0 + Omega A1 made there, once)
+            out = np.empty((len(x),) + self.A0.shape[1:])
             for v in np.unique(variants):
                 rows = variants == v
                 out[rows] = self.forms[v].at(x[rows])
-        return out
+            return out
+        return self.A0[variants] + x[:, None, None] * self.A1[variants]
 
     def damping_stiffness(self, variants, x):
         """``C + Omega G`` (P, n, n) and ``K`` of variant ``variants[p]`` at ``x[p]``; with constant
@@ -590,8 +591,10 @@ def _variant_parts(variants, item_bytes: int):
 #: models up to this many coordinates keep their speed-independent parts between analyses
 #: (:func:`model_constants`): at most a few MB each. ROSS's ``Rotor`` keeps its ``M0``, ``K0`` and
 #: ``G0`` the same way; a small model's Campbell diagram of 21 speeds spent a fifth of its time
-#: building them again (rotor_example: 3 of 15 ms)
-KEPT_DOF = 100
+#: building them again (rotor_example: 3 of 15 ms). 256 (100 before): ROSS's compressor_example (224
+#: coordinates, its kept parts about 5 MB: M, C, G, K, M's factor, the whirl forms, the state matrices
+#: of its tabulated bearings' round-off) spent 0.9 of its 7 ms a speed at 21 speeds making them again
+KEPT_DOF = 256
 
 #: how many models keep their constants at once (the most recently used): each is held, with its
 #: model, until it is pushed out

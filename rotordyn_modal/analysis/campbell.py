@@ -756,7 +756,9 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
         _warn_of_jumps(tables[0], sources[0], model)
     else:
         tables = [_critical_table([], [], [], [], [], [], [], [])]
-    noise = _lowest_whirl_round_off(stack, speeds, values[0], ~np.asarray(whole, dtype=bool))
+    # its balancing's products: BLAS's own threads would only spin on a shared machine
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+        noise = _lowest_whirl_round_off(stack, speeds, values[0], ~np.asarray(whole, dtype=bool))
     if wanted is not None:                     # the roots not asked for are no result
         values = np.where(wanted, values, complex(np.nan, np.nan))
         shapes[~wanted] = 0.0

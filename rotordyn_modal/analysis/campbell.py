@@ -512,7 +512,14 @@ def _tracked(stack, speeds, values, shapes, weighted):
     doubtful = doubtful_steps(values, weighted, order)
     if not doubtful.any():
         return order
-    return _tracked_finer(stack, speeds, values, shapes, order, doubtful)
+    if len(stack) == 1:
+        return _tracked_finer(stack, speeds, values, shapes, order, doubtful)
+    # each variant of a study on its own added speeds, as its model alone is tracked
+    order = order.copy()
+    for v in np.nonzero(doubtful.any(axis=1))[0]:
+        order[v:v + 1] = _tracked_finer(Stack([stack.models[v]]), speeds, values[v:v + 1], shapes[v:v + 1],
+                                        order[v:v + 1], doubtful[v:v + 1])
+    return order
 
 
 def _tracked_finer(stack, speeds, values, shapes, order, doubtful):

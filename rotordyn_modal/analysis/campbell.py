@@ -510,15 +510,11 @@ def _tracked(stack, speeds, values, shapes, weighted):
     if stack.forms[0].n_states > _FINER_STATES or len(speeds) < 2:
         return order
     doubtful = doubtful_steps(values, weighted, order)
-    if not doubtful.any():
-        return order
-    if len(stack) == 1:
-        return _tracked_finer(stack, speeds, values, shapes, order, doubtful)
-    # each variant of a study on its own added speeds, as its model alone is tracked
     order = order.copy()
-    for v in np.nonzero(doubtful.any(axis=1))[0]:
-        order[v:v + 1] = _tracked_finer(Stack([stack.models[v]]), speeds, values[v:v + 1], shapes[v:v + 1],
-                                        order[v:v + 1], doubtful[v:v + 1])
+    for v in np.nonzero(doubtful.any(axis=1))[0]:      # each variant of a study on its own added speeds
+        alone = stack if len(stack) == 1 else Stack([stack.models[v]])     # as its model alone is tracked
+        order[v:v + 1] = _tracked_finer(alone, speeds, values[v:v + 1], shapes[v:v + 1], order[v:v + 1],
+                                        doubtful[v:v + 1])
     return order
 
 

@@ -280,7 +280,7 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
         return False
     touching, pairs, broken, apart = owner.ucs_grouping
     circles = [label[:2] for label in labels[first:first + count]]
-    crossing = None
+    crossing = _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
     lead = owner.ucs_indices[0]
     # joined with one of the nearest circles, on one line, then on two; a shared label alone on two
     tries = [(joined, lines) for joined in _nearest_others(ax, labels, (first, count), owner.ucs_indices)
@@ -290,7 +290,6 @@ def _join_one(ax, labels, crossings, drawn, place, lengths) -> bool:
         split = broken + ((lead,) if lines == 2 else ())
         shared = _shared_text(labels, group, lines == 2)
         grouping = (touching, pairs + ((() if joined is None else ((joined, lead),))), split, apart)
-        crossing = crossing or _crossing_leaders(ax, drawn, _members(labels, first, count, drawn), circles)
 
         def better(tried, after, shared=shared, lines=lines):
             # on two lines only where that ends the misreading: the label within _LONG_LEADER of

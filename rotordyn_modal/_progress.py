@@ -68,7 +68,10 @@ _SHORTEST_DELAY = 0.125
 #: monotonic times [s]: ``since``, the start of the terminal's silence (the last drawing or clearing
 #: by a bar of this module, or the start of the work that followed it); ``ended``, when the last bar
 #: or phase ended (None: none yet); ``program``, when the command line started (:func:`program_started`)
-_silence = {"since": None, "ended": None, "program": None}
+#: ``chain``, when the work the last bars and phases did one after the other (each starting within
+#: :data:`PHASE_DELAY` of the last one's end) started; ``logged``, when a log last got a line
+#: (:class:`_LogLines`)
+_silence = {"since": None, "ended": None, "program": None, "chain": None, "logged": None}
 
 
 def terminal_defaults(stream=None) -> dict:
@@ -123,9 +126,37 @@ def _log_options(kwargs) -> dict:
     :data:`LOG_SECONDS` s, ASCII only."""
     stream = kwargs.get("file")
     return {"file": _LogLines(sys.stderr if stream is None else stream),
-            "delay": max(float(kwargs.get("delay") or 0.0), LOG_DELAY),
+            "delay": _log_delay(),
             "mininterval": max(float(kwargs.get("mininterval") or 0.0), LOG_SECONDS),
             "ascii": True, "ncols": kwargs.get("ncols") or 80}
+
+
+def _log_delay() -> float:
+    """Seconds before a bar's or a phase's first line on a log: :data:`LOG_DELAY` after the start of
+    the chain of work it continues (bars and phases one after the other, :func:`_chain_start`), and
+    :data:`LOG_SECONDS` after the log's last line where that chain has written one, so that phases
+    each shorter than the delay still show their sum and a log gets at most a line an interval;
+    never less than a phase's shortest delay. (A phase's own delay is a terminal's: a log's is
+    longer.)"""
+    now = time.monotonic()
+    start, logged = _chain_start(now), _silence["logged"]
+    due = start + LOG_DELAY
+    if logged is not None and logged >= start:
+        due = max(due, logged + LOG_SECONDS)
+    return max(due - now, _SHORTEST_DELAY * PHASE_DELAY)
+
+
+def _chain_start(now) -> float:
+    """When the chain of work that a bar starting at ``now`` continues started [s, monotonic]: the
+    program's start before its first bar has ended (:func:`program_started`), the last chain's start
+    where the last bar or phase ended at most :data:`PHASE_DELAY` ago, else ``now``."""
+    ended, chain = _silence["ended"], _silence["chain"]
+    if ended is None:
+        chain = now if _silence["program"] is None else _silence["program"]
+    elif now - ended > PHASE_DELAY or chain is None:
+        chain = now
+    _silence["chain"] = chain
+    return chain
 
 
 class _LogLines:
@@ -145,6 +176,7 @@ class _LogLines:
             if line and line != self._last:
                 self._stream.write(line + "\n")
                 self._last = line
+                _silence["logged"] = time.monotonic()
         return len(text)
 
     def flush(self):
@@ -195,7 +227,7 @@ def program_started():
     """Mark the start of the program (the command line's ``main``): until a bar or phase has ended,
     the terminal has been silent since then, and the first phase (reading the model, after the
     imports and the parsing) is shown :data:`PHASE_DELAY` after the start, not after its own."""
-    _silence.update(since=None, ended=None, program=time.monotonic())
+    _silence.update(since=None, ended=None, program=time.monotonic(), chain=None, logged=None)
 
 
 def _drawn():

@@ -1037,14 +1037,71 @@ def along_each(segments, starts, ends, reach, degrees, bounds=None):
                                        <= np.sin(np.radians(degrees)) * pieces_size[None])
     step = reach / 8.0
     for k in np.flatnonzero((sizes > 0) & near.any(axis=1)):
+        near[k, near[k]] = _segment_distances(starts[k], ends[k], segments[near[k]]) <= reach * (1 + 1e-9)
+        if not near[k].any():
+            continue
         count = int(np.ceil(sizes[k] / step))
-        points = starts[k] + ((np.arange(count) + 0.5) / count)[:, None] * ways[k]        # (count, 2)
+        fractions = (np.arange(count) + 0.5) / count
         first, piece, size = segments[near[k], :2], pieces[near[k]], pieces_size[near[k]]
+        fractions = fractions[_beside(fractions * sizes[k], starts[k], way[k], first, first + piece, reach)]
+        points = starts[k] + fractions[:, None] * ways[k]        # (count, 2), those that may lie within reach
         t = np.clip(((points[:, None, :] - first[None]) * piece[None]).sum(axis=2) / (size * size)[None], 0.0, 1.0)
         off = points[:, None, :] - (first[None] + t[..., None] * piece[None])
         within = np.any(off[..., 0] ** 2 + off[..., 1] ** 2 <= reach * reach, axis=1)
         lengths[k] = np.count_nonzero(within) * sizes[k] / count
     return lengths
+
+
+def _segment_distances(start, end, segments):
+    """The shortest distance [pixels] between the segment ``start -> end`` ((2,) each [pixels]) and
+    each of the ``segments`` ``(m, 4)`` [pixels]: 0 where they cross, else the least of the four
+    distances from an end of one to the other. Shape (m,).
+
+    :func:`along_each` tests only the segments within its reach of a leader (a point of the leader
+    can lie within the reach of no other): a long leader across a dense figure had its thousand
+    points tested against a thousand segments of its bounding box (60 ms, half of a report's
+    unbalance figure)."""
+    a, b = np.asarray(start, float), np.asarray(end, float)
+    c, d = segments[:, :2], segments[:, 2:]
+    distances = np.minimum(np.minimum(_point_distances(c, a, b), _point_distances(d, a, b)),
+                           np.minimum(_to_segments(a, c, d), _to_segments(b, c, d)))
+    def side(p, q, r):
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+    crossing = ((side(a, b, c) * side(a, b, d) <= 0) & (side(c, d, a) * side(c, d, b) <= 0))
+    return np.where(crossing, 0.0, distances)
+
+
+def _beside(along, start, way, c, d, reach):
+    """Mask of the points ``start + along[i] * way`` (``along`` (count,) [pixels], ``way`` a unit
+    vector) that lie beside a segment ``c[j] -> d[j]`` ((m, 2) each [pixels]): whose position along
+    the leader is within ``reach`` [pixels] of the segment's shadow on it. A point farther along
+    lies farther than ``reach`` from every segment (its distance is at least the gap of shadows)."""
+    ends = np.stack([(c - start) @ way, (d - start) @ way], axis=1)
+    slack = reach * (1 + 1e-9) + 1e-9
+    low, high = ends.min(axis=1) - slack, ends.max(axis=1) + slack
+    order = np.argsort(low)
+    low, high = low[order], np.maximum.accumulate(high[order])
+    last = np.searchsorted(low, along, side="right") - 1          # the last shadow starting before each point
+    return (last >= 0) & (along <= high[np.maximum(last, 0)])
+
+
+def _point_distances(points, a, b):
+    """Distances [pixels] of ``points`` (m, 2) from the one segment ``a -> b`` ((2,) each)."""
+    way = b - a
+    size2 = float(way @ way)
+    t = np.zeros(len(points)) if size2 == 0 else np.clip((points - a) @ way / size2, 0.0, 1.0)
+    off = points - (a + t[:, None] * way)
+    return np.hypot(off[:, 0], off[:, 1])
+
+
+def _to_segments(point, c, d):
+    """Distances [pixels] of the one ``point`` (2,) from each segment ``c[j] -> d[j]`` ((m, 2) each)."""
+    way = d - c
+    size2 = np.einsum("ij,ij->i", way, way)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(size2 > 0, np.clip(np.einsum("ij,ij->i", point - c, way) / size2, 0.0, 1.0), 0.0)
+    off = point - (c + t[:, None] * way)
+    return np.hypot(off[:, 0], off[:, 1])
 
 
 #: a leader line within this many points of a drawn curve, at an angle below :data:`ALONG_DEGREES`

@@ -11,6 +11,7 @@ import tempfile
 from pathlib import Path
 
 
+from .._progress import phase
 from ..errors import InputError
 from ..io import atomic_write
 from ..io.text import shown_text
@@ -116,7 +117,8 @@ def run(args) -> int:
     # refused before any section where over the limit (one line with the estimate, nothing written)
     data = collect(model, inputs, progress=show_progress(args))
     units = getattr(args, "units", None) or "si"
-    html = render_html(data, units=units)
+    with phase(show_progress(args), "report: drawing the figures"):     # several seconds on flexible rotors
+        html = render_html(data, units=units)
     with atomic_write(args.out, "w", encoding="utf-8") as handle:
         handle.write(html)
     if args.pdf:

@@ -26,6 +26,8 @@ lines instead, without carriage returns or a meter of blocks (:class:`_LogLines`
 shorter than :data:`LOG_DELAY`, then a line at most every :data:`LOG_SECONDS`, its clock kept going
 through a long step as on a terminal. A campbell of 100 geared rotors run with its stderr sent to a
 file showed nothing for 103 s of CPU time (tqdm drew its ``\r`` updates only on a terminal here).
+The delay counts from the start of the chain of work a bar continues (:func:`_log_delay`): a
+report's sections, each shorter than it, wrote nothing to a log in 27 s.
 
 A phase's delay counts from the terminal's last drawing by these bars, not from the phase's own
 start, where the phase follows other work at once (within :data:`PHASE_DELAY`): phases one after

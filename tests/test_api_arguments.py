@@ -85,3 +85,49 @@ def test_good_arguments_keep_working(model):
 def test_frequencies_keep_their_documented_message(model):
     with pytest.raises(InputError, match=re.escape("frequencies: expected a 1-D array of finite values >= 0 Hz")):
         rdm.frf(model, 0.0, [1.0, -2.0])
+
+
+@pytest.fixture(scope="module")
+def flexible():
+    from pathlib import Path
+
+    model = rdm.load_model(Path(__file__).resolve().parent.parent / "examples" / "flexible_pump_on_mounts.toml")
+    return model, rdm.modal(model, 100.0)
+
+
+# the drawing entry points (redteam44): a count of 10**7 points per element asked for the machine's
+# whole memory (the process was killed), -3 and 2.5 failed inside numpy, a NaN mode in int(), and a
+# NaN scale drew a shape of NaN motions without a word
+_DRAWING_CASES = {
+    "shaft_lines: too many points per element": (lambda m, r: rdm.shaft_lines(r, m, 1, points_per_element=5000),
+                                                 "points_per_element = 5000", "a whole number from 0 to 1000"),
+    "shaft_lines: negative points": (lambda m, r: rdm.shaft_lines(r, m, 1, points_per_element=-3),
+                                     "points_per_element = -3", "a whole number"),
+    "shaft_lines: fractional points": (lambda m, r: rdm.shaft_lines(r, m, 1, points_per_element=2.5),
+                                       "points_per_element = 2.5", "a whole number"),
+    "shaft_lines: NaN mode": (lambda m, r: rdm.shaft_lines(r, m, math.nan), "mode nan", "a mode number from 1"),
+    "mode_shape_3d: NaN scale": (lambda m, r: rdm.mode_shape_3d(r, m, 1, scale=math.nan), "scale = nan",
+                                 "one finite number"),
+    "mode_shape_3d: inf scale": (lambda m, r: rdm.mode_shape_3d(r, m, 1, scale=math.inf), "scale = inf",
+                                 "one finite number"),
+}
+
+
+@pytest.mark.parametrize("case", list(_DRAWING_CASES))
+def test_a_bad_drawing_argument_is_refused_by_name(flexible, case):
+    call, named, expected = _DRAWING_CASES[case]
+    with pytest.raises(InputError) as info:
+        call(*flexible)
+    message = str(info.value)
+    assert named in message and expected in message and "\n" not in message
+
+
+def test_drawing_arguments_that_are_whole_numbers_keep_working(flexible):
+    """0 points per element draws the nodes only: each element's left node and the shaft's end;
+    a whole float or a numpy integer is a mode number."""
+    model, result = flexible
+    nodes = len(model.rotors[1].flexible.node_positions)
+    line = next(line for line in rdm.shaft_lines(result, model, 1, points_per_element=0).lines if line.flexible)
+    assert len(line.position) == nodes
+    assert rdm.shaft_lines(result, model, np.int64(2)).mode == rdm.shaft_lines(result, model, 2.0).mode == 2
+    assert rdm.mode_shape_3d(result, model, 1, scale=0.1).scale == 0.1

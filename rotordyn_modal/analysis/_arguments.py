@@ -13,7 +13,7 @@ import numpy as np
 from ..errors import InputError
 from ..model._table import LARGEST
 
-__all__ = ["speed", "values", "speeds", "frequencies", "orders"]
+__all__ = ["speed", "values", "speeds", "frequencies", "orders", "whole_number", "number"]
 
 
 def _plain(value):
@@ -122,3 +122,24 @@ def orders(value, name: str = "orders") -> tuple:
             raise InputError(f"{name} = {_shown(list(out))}: expected each order once; element {index} ({order:g}) "
                              f"repeats element {out.index(order)}")
     return out
+
+
+def whole_number(value, name: str, low: int, high: int) -> int:
+    """One whole number from ``low`` to ``high`` (``2.0`` is one; ``2.5``, NaN, a string or a
+    boolean is not): a count or an index, refused by name before it reaches numpy (a count of
+    1e7 points drew the memory of the machine, -3 failed inside ``numpy.linspace``)."""
+    expected = f"a whole number from {low} to {high}"
+    array = _numbers(value, name, expected)
+    if array.ndim != 0 or not np.isfinite(array) or float(array) != round(float(array)) \
+            or not low <= float(array) <= high:
+        raise InputError(f"{name} = {_shown(value)}: expected {expected}")
+    return int(array)
+
+
+def number(value, name: str, unit: str) -> float:
+    """One finite number [``unit``] (a string, a boolean, NaN or an array is refused)."""
+    expected = f"one finite number [{unit}]"
+    array = _numbers(value, name, expected)
+    if array.ndim != 0 or not np.isfinite(array):
+        raise InputError(f"{name} = {_shown(value)}: expected {expected}")
+    return float(array)

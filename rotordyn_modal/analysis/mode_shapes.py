@@ -557,7 +557,9 @@ def whirl_direction(motion) -> np.ndarray:
 def mode_index(result, mode: int) -> int:
     """Index into ``result`` of the oscillatory mode numbered ``mode`` (from 1, as in the table)."""
     oscillatory = np.nonzero(result.oscillatory)[0]
-    if not 1 <= int(mode) <= len(oscillatory) or int(mode) != mode:
+    # NaN or a string: this message, not numpy's or int()'s words without the argument's name
+    number = np.asarray(mode) if isinstance(mode, (int, float, np.number)) else np.asarray(np.nan)
+    if not (number.ndim == 0 and np.isfinite(number) and 1 <= int(mode) <= len(oscillatory) and int(mode) == mode):
         raise InputError(f"mode {mode!r}: expected a mode number from 1 to {len(oscillatory)} "
                          "(the 'mode' column of the modes table)")
     return int(oscillatory[int(mode) - 1])
@@ -597,6 +599,10 @@ def mode_shape_3d(result, model, mode: int, scale: float | None = None, outline=
     largest = max([np.abs(b).max(initial=0.0) for b in bodies] + [np.abs(springs).max(initial=0.0)])
     if scale is None:
         scale = _DISPLAY_FRACTION * drawing.size / largest if largest > 0 else 1.0
+    else:      # NaN or inf drew a shape of NaN motions without a word
+        from ._arguments import number
+
+        scale = number(scale, "scale", "m per unit modal amplitude")
     return ModeShape3D(outline=drawing, mode=int(mode), frequency_hz=float(result.frequencies_hz[k]),
                        damping_ratio=float(result.damping_ratios[k]), whirl=str(result.whirl[k]),
                        whirl_ratio=float(result.whirl_ratios[k]), speed=float(result.speed), scale=float(scale),
@@ -644,6 +650,9 @@ def _point_motion(result, points, body):
 # ---------------------------------------------------------------------------------------------
 #: points drawn inside each element of a flexible rotor (besides its nodes)
 _POINTS_PER_ELEMENT = 8
+#: most points :func:`shaft_lines` draws inside an element (a line of 2,500 nodes then holds 2.5
+#: million points per rotor: a few hundred MB; 10**7 asked for the machine's whole memory)
+MAX_POINTS_PER_ELEMENT = 1000
 #: points along a rigid rotor's straight line
 _RIGID_POINTS = 21
 #: lateral motion below this fraction of the mode's largest motion is round-off (an axial mode)
@@ -785,7 +794,8 @@ def shaft_lines(result, model, mode: int, points_per_element: int = _POINTS_PER_
     mode : int
         Mode number as in ``result.to_dataframe()`` (1 = lowest oscillatory mode).
     points_per_element : int
-        Points drawn inside each element of a flexible rotor.
+        Points drawn inside each element of a flexible rotor, 0 to
+        :data:`MAX_POINTS_PER_ELEMENT` (0: the nodes only).
 
     Returns
     -------
@@ -796,7 +806,10 @@ def shaft_lines(result, model, mode: int, points_per_element: int = _POINTS_PER_
     from ..model.dofs import _axis_letters
     from ..model.geometry import transverse_axes
 
+    from ._arguments import whole_number
+
     k = mode_index(result, mode)
+    points_per_element = whole_number(points_per_element, "points_per_element", 0, MAX_POINTS_PER_ELEMENT)
     a, b = transverse_axes(model.spin_axis)
     e = np.asarray(model.spin_axis, dtype=float)
     raw = [_flexible_line(result, model, rotor, k, (a, b, e), points_per_element) if rotor.flexible is not None

@@ -230,7 +230,7 @@ def _table(rows, path, what: str):
     while len(header) > 1 and not header[-1].strip():     # 'x,y,z,': the trailing separator names no column
         header.pop()
     width = len(header)
-    shown = ", ".join(name.strip() for name in header)
+    shown = _escaped(", ".join(name.strip() for name in header))
     kept = []
     for line, cells in body:
         if len(cells) != width:
@@ -262,6 +262,13 @@ def _frame(header, columns, lines, strip=True):
 
 #: control characters no text table holds (tab, line feed, carriage return and form feed may)
 _CONTROL = re.compile(r"[\x00-\x08\x0b\x0e-\x1f\x7f]")
+
+
+def _escaped(text: str) -> str:
+    """``text`` with its control characters written as escapes (``\\x00``), for a message on one
+    line: a binary file read as Latin-1 put its NUL bytes and escape sequences, as its header,
+    on the terminal."""
+    return re.sub(r"[\x00-\x1f\x7f-\x9f]", lambda found: repr(found.group())[1:-1], text)
 
 
 def _check_text(text: str, path, what: str) -> None:

@@ -50,6 +50,9 @@ LEVEL_FACTOR = 2.0
 _SPAN = 1.5
 #: more roots below the level than this: the subspace is not worth it (today's route)
 _MOST_ROOTS = 60
+#: more than this share of a curve's points in doubt on the subspace (each then solved whole):
+#: today's route
+_MOST_WHOLE = 0.25
 #: margins of the decisions: the MAC (absolute), the whirl ratio (relative to its tolerance)
 _MAC_MARGIN, _WHIRL_MARGIN = 1e-3, 0.5
 #: Newton's steps at most, and its relative step in ``s`` at which it stops
@@ -66,7 +69,10 @@ class _Subspace:
     ``P = [K_rest V, K_unit V, B V]``, ``C C^H = W^H K(k_min) W`` on the constrained coordinates
     ``W``: ``||R z|| >= ||P z||_{K(k)^-1}`` for every ``k >= k_min`` (``K(k) >= K(k_min)``), without
     the cancellation of ``z^H P^H K^-1 P z``; ``condition``: ``C``'s condition number (the
-    rounding of ``R``). None of them where ``K(k_min)`` is not positive definite there."""
+    rounding of ``R``); ``slack`` (3, n, r): the bound of the rounding of ``P``'s three blocks
+    (of ``A V``: ``|A| |V|`` times eps and the terms of ``A``'s fullest row), over
+    ``lambda_min(K(k_min))^1/2``.
+    None of them where ``K(k_min)`` is not positive definite there."""
 
     def __init__(self, parts, V, k_min):
         B = parts.M - 1j * parts.G
@@ -84,8 +90,12 @@ class _Subspace:
             return
         scaled = scipy.linalg.solve_triangular(C, W.conj().T @ np.concatenate(products, axis=1), lower=True)
         self.triangle = np.linalg.qr(scaled, mode="r")
-        diagonal = np.abs(np.diag(C))
-        self.condition = float(diagonal.max() / diagonal.min())
+        extremes = np.linalg.eigvalsh(_hermitian(stiff))[[0, -1]]
+        self.condition = float(np.sqrt(extremes[1] / extremes[0]))
+        # the products' own rounding: a row's terms times eps of |A| |V| (a zero term adds exactly
+        # nothing), over lambda_min(K)^1/2
+        self.slack = np.array([_terms(A) * np.finfo(float).eps * (np.abs(A) @ np.abs(V))
+                               for A in (parts.rest, parts.unit, B)]) / np.sqrt(extremes[0])
 
     def ritz(self, k):
         """Ritz pairs at stiffness values ``k`` (S,) [N/m]: ``nu`` (S, r) decreasing (``Omega^-2``) and
@@ -105,11 +115,19 @@ class _Subspace:
         z = np.concatenate([y, k[:, None, None] * y, -theta[:, None, :] * y], axis=1)   # (S, 3r, c)
         R = self.triangle
         rounding = 8 * len(R) * np.finfo(float).eps * self.condition * np.linalg.norm(np.abs(R) @ np.abs(z), axis=1)
-        return (np.linalg.norm(R @ z, axis=1) + rounding) * np.abs(nu)
+        size = np.abs(y)
+        products = np.linalg.norm(self.slack[0] @ size + k[:, None, None] * (self.slack[1] @ size)
+                                  + theta[:, None, :] * (self.slack[2] @ size), axis=1)
+        return (np.linalg.norm(R @ z, axis=1) + rounding + products) * np.abs(nu)
 
 
 def _hermitian(A):
     return 0.5 * (A + A.conj().swapaxes(-1, -2))
+
+
+def _terms(A) -> int:
+    """The most nonzero entries of a row of ``A`` (n, n): the terms of its products' sums."""
+    return int(np.count_nonzero(A, axis=1).max(initial=1))
 
 
 def subspace_crossings(parts, curve, axes, grid, followed):
@@ -199,52 +217,31 @@ def _span(exact, anchors, levels):
 
 
 def _axis_crossings(parts, space, anchors, limits, curve, axis, speeds, stiffness, grid, followed):
-    """One axis' crossings (list of Crossing), or None (the decisions not shown)."""
-    from .ucs_map import Crossing
+    """One axis' crossings (list of Crossing), or None (too many points in doubt, or a finish
+    failed). The points whose decisions the Ritz pairs do not show are solved whole and decided
+    as today (:func:`.ucs_map._matched`)."""
+    from .ucs_map import Crossing, _matched
 
-    levels, counts, nexts, largest = limits
-    interval = np.clip(np.searchsorted(anchors, stiffness, side="right") - 1, 0, len(levels) - 1)
-    nu, y = space.ritz(stiffness)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        omega = np.where(nu > 0, 1 / np.sqrt(np.where(nu > 0, nu, 1.0)), np.inf)
-    below = omega < levels[interval][:, None]
-    if np.any(below.sum(axis=1) != counts[interval]):
-        return None                                  # a root below the level not seen
-    c = int(counts[interval].max())
-    if not c:
-        return []
-    nu, omega, y = nu[:, :c], omega[:, :c], y[:, :, :c]
-    valid = below[:, :c]                              # roots past the point's own count are not followed
-    error = space.nu_errors(stiffness, nu, y)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        most = np.where(nu > error, (nu - error) ** -0.5, np.inf)             # Omega's bounds
-        least = (nu + error) ** -0.5
-    if not _pairs_clear(valid, least, most, nexts[interval], largest):
-        return None
-    y = _resolved(omega, y, space.forms, largest[1])
-    weighted = np.einsum("src,rn->scn", y, space.mass)
-    weighted /= np.linalg.norm(weighted, axis=-1, keepdims=True)
-    values = np.einsum("src,krq,sqc->sck", y.conj(), space.forms, y)
-    ratios = _whirl.ratios_of_forms(values, np.ones(len(stiffness)))
     nearest = np.abs(np.log(stiffness)[:, None] - np.log(grid)[None, :]).argmin(axis=-1)
     reference = followed.weighted[nearest]                                        # (S, L, n)
-    correlation = np.abs(reference.conj() @ weighted.swapaxes(-1, -2)) ** 2       # (S, L, c)
-    correlation = np.where(valid[:, None, :], correlation, -1.0)
-    decided = _decided(correlation, ratios, valid, omega, least, most, speeds)
-    if decided is None:
+    at, index, y, doubt = _ritz_decisions(space, anchors, limits, speeds, stiffness, reference)
+    if doubt.sum() > _MOST_WHOLE * len(doubt):
         return None
-    at, index = decided
-    brackets = []
-    for j in range(at.shape[1]):
-        gap = at[:, j] - speeds
-        brackets += [(i, j) for i in np.nonzero(np.isfinite(gap[:-1]) & np.isfinite(gap[1:])
-                                                & (np.sign(gap[:-1]) != np.sign(gap[1:])))[0]]
+    whole = np.flatnonzero(doubt)
+    shapes = {}
+    if len(whole):
+        roots = parts.roots(stiffness[whole])
+        at[whole], index[whole] = _matched(parts, roots, reference[whole])
+        shapes = {int(i): roots.shapes[p] for p, i in enumerate(whole)}              # (m, n) each
     out = []
-    for i, j in brackets:
+    for i, j in _brackets(at, speeds):
         line = (speeds[i], speeds[i + 1], stiffness[i], stiffness[i + 1])
         gaps = at[i, j] - speeds[i], at[i + 1, j] - speeds[i + 1]
         start = speeds[i] - gaps[0] * (speeds[i + 1] - speeds[i]) / (gaps[1] - gaps[0])
-        s = _finished(parts, space, line, start, y[i][:, index[i, j]])
+        if i in shapes:
+            s = _finished(parts, space, line, start, x=shapes[i][index[i, j]])
+        else:
+            s = _finished(parts, space, line, start, y=y[i][:, index[i, j]])
         if s is None:
             return None
         t = (s - speeds[i]) / (speeds[i + 1] - speeds[i])
@@ -253,8 +250,58 @@ def _axis_crossings(parts, space, anchors, limits, curve, axis, speeds, stiffnes
     return out
 
 
-def _pairs_clear(valid, least, most, next_low, largest) -> bool:
-    """Whether each two neighbouring followed roots are surely one repeated root, or surely two,
+def _brackets(at, speeds) -> list:
+    """(point, mode) of each sign change of ``at[:, j] - speeds`` between neighbouring points with
+    both finite, mode by mode (as :func:`.ucs_map._curve_crossings` lists them)."""
+    brackets = []
+    for j in range(at.shape[1]):
+        gap = at[:, j] - speeds
+        brackets += [(int(i), j) for i in np.nonzero(np.isfinite(gap[:-1]) & np.isfinite(gap[1:])
+                                                     & (np.sign(gap[:-1]) != np.sign(gap[1:])))[0]]
+    return brackets
+
+
+def _ritz_decisions(space, anchors, limits, speeds, stiffness, reference):
+    """The map modes' roots at the curve's points (S,) decided on the Ritz pairs.
+
+    Returns
+    -------
+    at : ndarray, shape (S, L) [rad/s], nan where none
+    index : ndarray of int, shape (S, L): the Ritz root
+    y : ndarray, shape (S, r, c): the followed Ritz roots' coordinates
+    doubt : ndarray of bool, shape (S,): points where a decision is not shown
+    """
+    levels, counts, nexts, largest = limits
+    interval = np.clip(np.searchsorted(anchors, stiffness, side="right") - 1, 0, len(levels) - 1)
+    nu, y = space.ritz(stiffness)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        omega = np.where(nu > 0, 1 / np.sqrt(np.where(nu > 0, nu, 1.0)), np.inf)
+    below = omega < levels[interval][:, None]
+    seen = below.sum(axis=1) == counts[interval]                  # else a root below the level not seen
+    S, L = reference.shape[:2]
+    c = int(counts[interval].max())
+    if not c:
+        return np.full((S, L), np.nan), np.zeros((S, L), int), y[:, :, :0], ~seen
+    nu, omega, y = nu[:, :c], omega[:, :c], y[:, :, :c]
+    valid = below[:, :c]                              # roots past the point's own count are not followed
+    error = space.nu_errors(stiffness, nu, y)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        most = np.where(nu > error, (nu - error) ** -0.5, np.inf)             # Omega's bounds
+        least = (nu + error) ** -0.5
+    clear = _pairs_clear(valid, least, most, nexts[interval], largest)
+    y = _resolved(omega, y, space.forms, largest[1])
+    weighted = y.swapaxes(-1, -2) @ space.mass                                   # (S, c, n)
+    weighted /= np.linalg.norm(weighted, axis=-1, keepdims=True)
+    values = np.stack([np.sum(y.conj() * (form @ y), axis=-2) for form in space.forms], axis=-1)   # (S, c, 3)
+    ratios = _whirl.ratios_of_forms(values, np.ones(len(stiffness)))
+    correlation = np.abs(reference.conj() @ weighted.swapaxes(-1, -2)) ** 2       # (S, L, c)
+    correlation = np.where(valid[:, None, :], correlation, -1.0)
+    at, index, unsure = _decided(correlation, ratios, valid, omega, least, most, speeds)
+    return at, index, y, ~seen | ~clear | unsure
+
+
+def _pairs_clear(valid, least, most, next_low, largest) -> np.ndarray:
+    """Whether (S,) at each point each two neighbouring followed roots are surely one repeated root, or surely two,
     as :func:`._eigensolve._repeated_pairs` judges them (within ``REPEATED_TOLERANCE`` of the row's
     largest root, between ``largest`` (low, high) [rad/s], and within ``REPEATED_OWN`` of the
     larger), over the Ritz roots' bounds ``least``, ``most`` (S, c) [rad/s]; the highest followed
@@ -269,7 +316,7 @@ def _pairs_clear(valid, least, most, next_low, largest) -> bool:
         highest = most[np.arange(len(most)), np.maximum(top, 0)]
         apart = (next_low - highest > tolerance[1]) | (next_low * (1 - REPEATED_OWN) > highest * (1 + 1e-3))
     inner = valid[:, 1:] & valid[:, :-1]
-    return not (np.any(inner & ~(one | two)) or np.any((top >= 0) & ~apart))
+    return ~np.any(inner & ~(one | two), axis=1) & ((top < 0) | apart)
 
 
 def _resolved(omega, y, forms, largest):
@@ -285,8 +332,8 @@ def _resolved(omega, y, forms, largest):
 
 def _decided(correlation, ratios, valid, omega, least, most, speeds):
     """Each map mode's root at each point as :func:`.ucs_map._matched` decides it (the largest MAC,
-    above ``_SAME_MODE_MAC`` and forward), shown by margins: (speeds (S, L) [rad/s] nan where none,
-    index (S, L)), or None where a decision or the sign of ``critical - s`` is in doubt.
+    above ``_SAME_MODE_MAC`` and forward), shown by margins: speeds (S, L) [rad/s] nan where none,
+    the Ritz roots' index (S, L), and (S,) bool the points where a decision or a sign is in doubt.
 
     ``correlation`` (S, L, c): MAC with each map mode's shape (-1 where not a followed root);
     ``ratios`` (S, c) whirl ratios; ``omega``, ``least``, ``most`` (S, c) [rad/s]: the Ritz roots'
@@ -307,21 +354,22 @@ def _decided(correlation, ratios, valid, omega, least, most, speeds):
     doubt |= (best > _SAME_MODE_MAC - _MAC_MARGIN) & (np.abs(np.abs(ratio) - tolerance) < _WHIRL_MARGIN * tolerance)
     s = speeds[:, None]
     doubt |= good & ~((least[points, index] > s) | (most[points, index] < s))      # the sign of critical - s
-    if np.any(doubt):
-        return None
-    return np.where(good, omega[points, index], np.nan), index
+    return np.where(good, omega[points, index], np.nan), index, doubt.any(axis=1)
 
 
-def _finished(parts, space, line, start, y):
+def _finished(parts, space, line, start, y=None, x=None):
     """The crossing speed [rad/s] on the bracket's line ``(s_a, s_b, k_a, k_b)``: Newton's method
     on the subspace from ``start`` [rad/s] and the Ritz coordinates ``y`` (r,), then on the whole
-    pencil (``K_rest`` products summed exactly, as the map's polished roots); None where either
-    does not converge, leaves the bracket, or the whole pencil's shape is not the subspace's."""
-    found = _newton(space.rest, space.unit, space.B, line, start, y, exact=False)
-    if found is None:
-        return None
-    s, y = found
-    x = space.V @ y
+    pencil (``K_rest`` products summed exactly, as the map's polished roots); from a whole
+    pencil's shape ``x`` (n,) on the whole pencil only. None where either does not converge,
+    leaves the bracket, or the whole pencil's shape is not the start's."""
+    s = start
+    if x is None:
+        found = _newton(space.rest, space.unit, space.B, line, start, y, exact=False)
+        if found is None:
+            return None
+        s, y = found
+        x = space.V @ y
     found = _newton(parts.rest, parts.unit, parts.M - 1j * parts.G, line, s, x, exact=True)
     if found is None:
         return None

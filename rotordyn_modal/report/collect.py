@@ -319,8 +319,9 @@ def _collected(model, inputs, progress) -> ReportData:
 
 
 #: the report's undamped critical speed map, per value of its stiffness grid (its own and the
-#: constant bearings' values) and of its speed-dependent bearings' anchors (``_ucs_ritz.CURVE_ANCHORS``
-#: a bearing; today's route: ``_CURVE_POINTS`` a bearing and axis): a complex Hermitian eigen-solution of the coordinates, its
+#: constant bearings' values) and of its speed-dependent bearings' anchors
+#: (``_ucs_ritz.CURVE_ANCHORS`` a bearing; today's route: ``_CURVE_POINTS`` a bearing and axis):
+#: a complex Hermitian eigen-solution of the coordinates, its
 #: factorisations and the modes' following, as a share of one dense eigen-solution of the state
 #: matrix (:func:`.._cost.eig_seconds`; measured about 0.1 on the 60-rotor gear chain, 246
 #: coordinates and 443 values, a map of 41 values taking 6.1 s of CPU)

@@ -92,7 +92,7 @@ def test_the_ucs_maps_crossings_refinement_is_counted(examples_dir, monkeypatch,
     monkeypatch.setattr(ucs_module, "_synchronous_roots", lambda M, G, K, *a, **k: solved.append(len(K))
                         or real(M, G, K, *a, **k))
     real_finish = _ucs_ritz._finished
-    monkeypatch.setattr(_ucs_ritz, "_finished", lambda *a: finished.append(1) or real_finish(*a))
+    monkeypatch.setattr(_ucs_ritz, "_finished", lambda *a, **k: finished.append(1) or real_finish(*a, **k))
     collect_module._ucs(data := collect_module.ReportData(inputs, model, {}, ("ucs",)))
     assert len(data.results["ucs"].crossings)
     assert bool(finished) == subspace                     # the route asked for is the route taken

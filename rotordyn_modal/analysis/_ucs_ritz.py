@@ -130,9 +130,10 @@ def _terms(A) -> int:
     return int(np.count_nonzero(A, axis=1).max(initial=1))
 
 
-def subspace_crossings(parts, curve, axes, grid, followed):
+def subspace_crossings(parts, curve, axes, grid, followed, rules):
     """The crossings of a speed-dependent bearing's curves (``axes``: (axis, speeds (S,) [rad/s],
-    stiffness (S,) [N/m]) of its Kxx and Kyy, positive points) with the map's modes, as
+    stiffness (S,) [N/m]) of its Kxx and Kyy, positive points) with the map's modes (``rules``:
+    ``ucs_map``'s ``Crossing``, ``_matched`` and ``_SAME_MODE_MAC``, given: no import circle), as
     :func:`.ucs_map._curve_crossings` finds them, on a subspace (module docstring); None where it
     cannot show it sees what that route does."""
     values = np.concatenate([v for _, _, v in axes])
@@ -154,7 +155,7 @@ def subspace_crossings(parts, curve, axes, grid, followed):
     out = []
     for axis, speeds, stiffness in axes:
         found = _axis_crossings(parts, space, anchors, (levels, counts, nexts, largest), curve, axis, speeds, stiffness,
-                                grid, followed)
+                                grid, followed, rules)
         if found is None:
             return None
         out += found
@@ -216,15 +217,14 @@ def _span(exact, anchors, levels):
     return U[:, sigma > 1e-10 * sigma[0]] if len(sigma) else None
 
 
-def _axis_crossings(parts, space, anchors, limits, curve, axis, speeds, stiffness, grid, followed):
+def _axis_crossings(parts, space, anchors, limits, curve, axis, speeds, stiffness, grid, followed, rules):
     """One axis' crossings (list of Crossing), or None (too many points in doubt, or a finish
     failed). The points whose decisions the Ritz pairs do not show are solved whole and decided
     as today (:func:`.ucs_map._matched`)."""
-    from .ucs_map import Crossing, _matched
-
+    Crossing, _matched, same_mode = rules
     nearest = np.abs(np.log(stiffness)[:, None] - np.log(grid)[None, :]).argmin(axis=-1)
     reference = followed.weighted[nearest]                                        # (S, L, n)
-    at, index, y, doubt = _ritz_decisions(space, anchors, limits, speeds, stiffness, reference)
+    at, index, y, doubt = _ritz_decisions(space, anchors, limits, speeds, stiffness, reference, same_mode)
     if doubt.sum() > _MOST_WHOLE * len(doubt):
         return None
     whole = np.flatnonzero(doubt)
@@ -261,7 +261,7 @@ def _brackets(at, speeds) -> list:
     return brackets
 
 
-def _ritz_decisions(space, anchors, limits, speeds, stiffness, reference):
+def _ritz_decisions(space, anchors, limits, speeds, stiffness, reference, same_mode):
     """The map modes' roots at the curve's points (S,) decided on the Ritz pairs.
 
     Returns
@@ -296,7 +296,7 @@ def _ritz_decisions(space, anchors, limits, speeds, stiffness, reference):
     ratios = _whirl.ratios_of_forms(values, np.ones(len(stiffness)))
     correlation = np.abs(reference.conj() @ weighted.swapaxes(-1, -2)) ** 2       # (S, L, c)
     correlation = np.where(valid[:, None, :], correlation, -1.0)
-    at, index, unsure = _decided(correlation, ratios, valid, omega, least, most, speeds)
+    at, index, unsure = _decided(correlation, ratios, valid, omega, least, most, speeds, same_mode)
     return at, index, y, ~seen | ~clear | unsure
 
 
@@ -330,15 +330,14 @@ def _resolved(omega, y, forms, largest):
     return resolved[:, :c].swapaxes(-1, -2)
 
 
-def _decided(correlation, ratios, valid, omega, least, most, speeds):
+def _decided(correlation, ratios, valid, omega, least, most, speeds, _SAME_MODE_MAC):
     """Each map mode's root at each point as :func:`.ucs_map._matched` decides it (the largest MAC,
     above ``_SAME_MODE_MAC`` and forward), shown by margins: speeds (S, L) [rad/s] nan where none,
     the Ritz roots' index (S, L), and (S,) bool the points where a decision or a sign is in doubt.
 
     ``correlation`` (S, L, c): MAC with each map mode's shape (-1 where not a followed root);
     ``ratios`` (S, c) whirl ratios; ``omega``, ``least``, ``most`` (S, c) [rad/s]: the Ritz roots'
-    speeds and their bounds; ``speeds`` (S,) [rad/s] the curve's."""
-    from .ucs_map import _SAME_MODE_MAC
+    speeds and their bounds; ``speeds`` (S,) [rad/s] the curve's; ``_SAME_MODE_MAC`` the map's."""
 
     index = correlation.argmax(axis=-1)
     ordered = np.sort(correlation, axis=-1)

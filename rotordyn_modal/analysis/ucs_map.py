@@ -1097,7 +1097,8 @@ def _curve_crossings_all(parts, curves, grid, followed) -> list:
             continue
         axes = [(axis, curve.speeds[values > 0], values[values > 0])
                 for axis, values in (("xx", curve.kxx), ("yy", curve.kyy)) if (values > 0).any()]
-        found = subspace_crossings(parts, curve, axes, grid, followed) if SUBSPACE_CROSSINGS and axes else None
+        rules = (Crossing, _matched, _SAME_MODE_MAC)
+        found = subspace_crossings(parts, curve, axes, grid, followed, rules) if SUBSPACE_CROSSINGS and axes else None
         if found is None:
             found = [c for axis, speeds, values in axes
                      for c in _curve_crossings(parts, curve, axis, speeds, values, grid, followed)]

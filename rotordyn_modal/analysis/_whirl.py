@@ -356,6 +356,13 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
     # phi^H X phi of the three forms for every shape from one product with [W^T N^T total^T]
     values = quadratic_forms(shapes, stacked_forms(forms) if stacked is None else stacked).reshape(
         shapes.shape[:-1] + (3,))
+    return ratios_of_forms(values, speeds)
+
+
+def ratios_of_forms(values, speeds) -> np.ndarray:
+    """:func:`whirl_ratios` from the shapes' quadratic forms ``values`` (..., m, 3), complex:
+    ``phi^H X phi`` of W, N and total (a shape known by its coordinates in a subspace: the forms
+    projected there). Returns (..., m)."""
     momentum = values[..., 0].imag  # Re(-i phi^H W phi)
     across = values[..., 1].real
     whole = values[..., 2].real

@@ -1079,16 +1079,30 @@ def _constant_crossings(curves, grid, followed) -> list:
     return out
 
 
+#: find the speed-dependent bearings' crossings on Rayleigh-Ritz subspaces, each finished on the whole
+#: pencil (:mod:`._ucs_ritz`); False: always today's route (:func:`_curve_crossings`: the whole pencil
+#: solved at each curve point and each refinement step), which the subspace route falls back to
+SUBSPACE_CROSSINGS = True
+
+
 def _curve_crossings_all(parts, curves, grid, followed) -> list:
-    """Where each speed-dependent bearing's Kxx and Kyy curves meet each shown mode's curve."""
+    """Where each speed-dependent bearing's Kxx and Kyy curves meet each shown mode's curve: on a
+    subspace where it shows it sees every crossing (:func:`._ucs_ritz.subspace_crossings`), else by
+    :func:`_curve_crossings`."""
+    from ._ucs_ritz import subspace_crossings
+
     out = []
     for curve in curves:
         if curve.constant:
             continue
-        for axis, values in (("xx", curve.kxx), ("yy", curve.kyy)):
-            good = values > 0
-            if good.any():
-                out += _curve_crossings(parts, curve, axis, curve.speeds[good], values[good], grid, followed)
+        axes = [(axis, curve.speeds[values > 0], values[values > 0])
+                for axis, values in (("xx", curve.kxx), ("yy", curve.kyy)) if (values > 0).any()]
+        rules = (Crossing, _matched, _SAME_MODE_MAC)
+        found = subspace_crossings(parts, curve, axes, grid, followed, rules) if SUBSPACE_CROSSINGS and axes else None
+        if found is None:
+            found = [c for axis, speeds, values in axes
+                     for c in _curve_crossings(parts, curve, axis, speeds, values, grid, followed)]
+        out += found
     return out
 
 

@@ -319,8 +319,9 @@ def _collected(model, inputs, progress) -> ReportData:
 
 
 #: the report's undamped critical speed map, per value of its stiffness grid (its own and the
-#: constant bearings' values) and of its speed-dependent bearings' curves (``_CURVE_POINTS`` a
-#: bearing and axis): a complex Hermitian eigen-solution of the coordinates, its
+#: constant bearings' values) and of its speed-dependent bearings' anchors
+#: (``_ucs_ritz.CURVE_ANCHORS`` a bearing; today's route: ``_CURVE_POINTS`` a bearing and axis):
+#: a complex Hermitian eigen-solution of the coordinates, its
 #: factorisations and the modes' following, as a share of one dense eigen-solution of the state
 #: matrix (:func:`.._cost.eig_seconds`; measured about 0.1 on the 60-rotor gear chain, 246
 #: coordinates and 443 values, a map of 41 values taking 6.1 s of CPU)
@@ -895,10 +896,16 @@ def _case_seconds(model, cases) -> float:
 
 
 #: stiffness values solved to refine one crossing of a speed-dependent bearing's curve with a
-#: mode's on the UCS map (:func:`..analysis.ucs_map._refined`: the bracket's two ends and the
-#: regula falsi's steps; measured 5.5 on examples/journal_rotor.toml, 5.75 on
-#: compressor_on_journals.toml)
+#: mode's on the UCS map by today's route (``ucs_map.SUBSPACE_CROSSINGS`` False:
+#: :func:`..analysis.ucs_map._refined`: the bracket's two ends and the regula falsi's steps;
+#: measured 5.5 on examples/journal_rotor.toml, 5.75 on compressor_on_journals.toml)
 UCS_REFINE_VALUES = 6
+#: stiffness values counted for one crossing's finish on the whole pencil by the subspace route
+#: (:func:`..analysis._ucs_ritz._finished`: Newton's method, about 2 bordered solves of the
+#: coordinates and 2 on the subspace; measured at most 0.8 of one value of the map: 0.8 on
+#: journal_rotor, 4 coordinates, where Python's work is the cost, 0.2 on compressor_on_journals,
+#: 0.02 on ROSS's compressor_example, 224 coordinates)
+UCS_FINISH_VALUES = 1
 #: the API 617 Level I sweep's following of its modes from one value of Q to the next (the
 #: MAC of their shapes, :func:`..analysis._vectors.mac_matrix`), in eigen-solutions of the state
 #: matrix per value of Q, on top of :func:`..analysis.level1.sweep_solutions`' one (measured on
@@ -909,20 +916,27 @@ LEVEL1_FOLLOWING = 1.2
 def _ucs_refined(model) -> int:
     """At most the stiffness values a UCS map of ``model`` solves to refine its speed-dependent
     bearings' crossings with the 4 modes it shows (the report's map): each curve (Kxx and Kyy of
-    each such bearing) meeting each mode once, :data:`UCS_REFINE_VALUES` values a crossing (the
-    constant bearings' crossings are points of its grid: none)."""
+    each such bearing) meeting each mode once, :data:`UCS_FINISH_VALUES` values a crossing
+    (:data:`UCS_REFINE_VALUES` by today's route; the constant bearings' crossings are points of its
+    grid: none)."""
+    from ..analysis import ucs_map
+
     curves = sum(b.coefficients.kind != "constant" for b in model.bearings)
-    return 2 * curves * 4 * UCS_REFINE_VALUES
+    return 2 * curves * 4 * (UCS_FINISH_VALUES if ucs_map.SUBSPACE_CROSSINGS else UCS_REFINE_VALUES)
 
 
 def _map_values(model, stiffness) -> int:
     """Values a UCS map of ``stiffness`` (G,) [N/m] solves: its grid with the constant bearings'
-    values, the rigid supports, and each speed-dependent bearing's Kxx and Kyy curves (their
-    crossings' refinement: :func:`_ucs_refined`)."""
-    from ..analysis.ucs_map import _CURVE_POINTS, _constant_values
+    values, the rigid supports, and each speed-dependent bearing's anchors
+    (``_ucs_ritz.CURVE_ANCHORS``; today's route: its Kxx and Kyy curves' points); their
+    crossings' refinement: :func:`_ucs_refined`. A bearing whose crossings the subspace cannot
+    show is mapped by today's route (``_ucs_ritz``): its curves' points are not counted."""
+    from ..analysis import ucs_map
+    from ..analysis._ucs_ritz import CURVE_ANCHORS
 
     curves = sum(b.coefficients.kind != "constant" for b in model.bearings)
-    return len(np.union1d(stiffness, _constant_values(model.bearings))) + 1 + 2 * _CURVE_POINTS * curves
+    each = CURVE_ANCHORS if ucs_map.SUBSPACE_CROSSINGS else 2 * ucs_map._CURVE_POINTS
+    return len(np.union1d(stiffness, ucs_map._constant_values(model.bearings))) + 1 + each * curves
 
 
 def refuse_long_work(model, inputs) -> "ReportWork | None":

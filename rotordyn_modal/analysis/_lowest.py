@@ -63,6 +63,17 @@ DENSE_BELOW = 38
 #: 21 speeds: ROSS's speed_tables (44 coordinates) 52 -> 44 ms, hrs113 (64) 559 -> 447 ms;
 #: damping_geometry (136) 118 -> 207 ms, so not there
 CHECK_DENSE_BELOW = 72
+#: ``campbell``'s lowest modes share their batches between the pool's threads
+#: (:func:`._batches._threaded`) from this many coordinates on; below, every batch runs in the
+#: calling thread (:func:`._batches.calling_thread`), the same bits. Measured on this 2-core machine
+#: shared with other sessions (load 1-3), wall / CPU time of ``campbell(modes=12)``, one thread
+#: against the pool: ROSS's rotor_example (28 coordinates, 21 speeds) 11.0 / 11.0 against 12.4 /
+#: 13.8 ms, speed_tables (44) 38 / 38 against 39 / 39 ms, compressor_example (224) 136 / 136 against
+#: 142 / 153 ms, and at 201 speeds 506-524 / 469-494 against 637-652 / 550-586 ms;
+#: bench_flexible's fan shaft at 201 speeds, 100 coordinates 178 / 178 against 188 / 188 ms, 400
+#: coordinates 1,553-1,598 / 1,466-1,498 against 1,432-1,539 / 1,532-1,542 ms (the pool a little
+#: shorter in wall time there)
+POOL_FROM = 300
 
 
 def lowest_roots(stack, speeds, count: int, progress: bool = False, what: str = "speeds"):

@@ -125,22 +125,33 @@ def test_roots_at_the_knots_are_the_full_models(sweep, row):
 def test_every_speed_between_anchors_is_carried_at_101_speeds():
     """At 101 speeds six nodes reach too far for the first speeds' roots to be followed to them:
     those speeds take their nearest four (``_Expansions.narrowed``), so every speed but the solved
-    anchors is still carried over (none takes its own projected roots). A guard: main's four nodes
-    carried them all too; with six and no fallback, 5 of the first 13 speeds were not."""
+    anchors is still carried over, except the two middle anchors (speeds 4 and 12) whose Gershgorin
+    discs cannot show their count (``_lowest._doomed``): they take their own projected roots at once,
+    and no speed is refined twice. A guard: main's four nodes carried them all too; with six and no
+    fallback, 5 of the first 13 speeds were not. (Before ``_doomed``, speeds 4 and 12 were carried,
+    failed the certificate and were refined again from their projected roots: the same bits.)"""
     from rotordyn_modal.analysis import _lowest
 
     path = DATA / "compressor_example.toml"
     model = rdm.Model.from_dict(read_ross_rotor(path), source=path)
     continued, carried = _lowest._continued, []
+    projected, own = _lowest._projected_starts, []
 
     def recording(pencils, guesses, vectors, rows):
         carried.append(np.array(rows))
         return continued(pencils, guesses, vectors, rows)
 
-    _lowest._continued = recording
+    def recording_own(pencils, basis, want, index=None, vectors_at=None):
+        own.append(np.array(index))
+        return projected(pencils, basis, want, index, vectors_at)
+
+    _lowest._continued, _lowest._projected_starts = recording, recording_own
     try:
         rdm.campbell(model, np.linspace(SPEEDS[0], SPEEDS[-1], 101), critical=False, modes=12)
     finally:
-        _lowest._continued = continued
+        _lowest._continued, _lowest._projected_starts = continued, projected
     solved = set(range(0, 101, 8)) | {100}
-    assert sorted(np.concatenate(carried).tolist()) == sorted(set(range(101)) - solved)
+    carried = np.concatenate(carried).tolist()
+    own = np.concatenate(own).tolist()
+    assert sorted(own) == [4, 12]
+    assert sorted(carried + own) == sorted(set(range(101)) - solved)

@@ -4,7 +4,9 @@ the GIL), and BLAS held to one thread where its own threads would wait for a cor
 
 from __future__ import annotations
 
+import contextlib
 import os
+import threading
 import weakref
 from concurrent.futures import ThreadPoolExecutor
 
@@ -65,6 +67,24 @@ def chunk_slices(count: int, item_bytes: int, largest: int | None = None, budget
 
 
 _POOL: ThreadPoolExecutor | None = None
+
+#: :func:`calling_thread`'s flag, per thread (a pool's worker threads never see it set)
+_LOCAL = threading.local()
+
+
+@contextlib.contextmanager
+def calling_thread(active: bool = True):
+    """Within it (where ``active``), every batch of :func:`_threaded` called from this thread runs
+    in this thread, as with ``ROTORDYN_MODAL_THREADS=1``: each part of a batch is its own, so the
+    results are the same bits. For sweeps whose batches take a few milliseconds each, where handing
+    the parts to the pool's threads costs more than it saves on a shared machine
+    (``campbell._campbell_lowest``)."""
+    before = getattr(_LOCAL, "single", False)
+    _LOCAL.single = before or bool(active)
+    try:
+        yield
+    finally:
+        _LOCAL.single = before
 
 
 def _forget_pool():
@@ -137,6 +157,8 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0, thread_bytes:
     count = len(batches[0])
     threads = int(environment_number(THREADS_ENVIRONMENT, "a whole number of threads >= 1",
                                      lambda v: v >= 1 and v.is_integer(), _THREADS))
+    if getattr(_LOCAL, "single", False):
+        threads = 1
     pieces = max(1, min(count, -(-count * item_bytes // _PART_BYTES)))
     if threads > 1 and count * item_bytes >= (_THREAD_BYTES if thread_bytes is None else thread_bytes):
         pieces = max(pieces, min(count, threads))

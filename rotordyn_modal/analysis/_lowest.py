@@ -63,6 +63,17 @@ DENSE_BELOW = 38
 #: 21 speeds: ROSS's speed_tables (44 coordinates) 52 -> 44 ms, hrs113 (64) 559 -> 447 ms;
 #: damping_geometry (136) 118 -> 207 ms, so not there
 CHECK_DENSE_BELOW = 72
+#: ``campbell``'s lowest modes share their batches between the pool's threads
+#: (:func:`._batches._threaded`) from this many coordinates on; below, every batch runs in the
+#: calling thread (:func:`._batches.calling_thread`), the same bits. Measured on this 2-core machine
+#: shared with other sessions (load 1-3), wall / CPU time of ``campbell(modes=12)``, one thread
+#: against the pool: ROSS's rotor_example (28 coordinates, 21 speeds) 11.0 / 11.0 against 12.4 /
+#: 13.8 ms, speed_tables (44) 38 / 38 against 39 / 39 ms, compressor_example (224) 136 / 136 against
+#: 142 / 153 ms, and at 201 speeds 506-524 / 469-494 against 637-652 / 550-586 ms;
+#: bench_flexible's fan shaft at 201 speeds, 100 coordinates 178 / 178 against 188 / 188 ms, 400
+#: coordinates 1,553-1,598 / 1,466-1,498 against 1,432-1,539 / 1,532-1,542 ms (the pool a little
+#: shorter in wall time there)
+POOL_FROM = 300
 
 
 def lowest_roots(stack, speeds, count: int, progress: bool = False, what: str = "speeds"):
@@ -360,6 +371,7 @@ def _swept(pencils, basis, want, count):
             guesses, vectors, sure, projected = _projected_guesses(expansions, places, values, shapes, ok)
         else:
             guesses, vectors, sure = _expansion_guesses(expansions, places, values, shapes, ok)
+            sure &= ~_doomed(expansions, places, guesses, moved, count)
         rows = part[sure]
         if len(rows):
             if not sure.all():
@@ -463,6 +475,34 @@ def _certified(expansions, places, values, moved, count):
     with np.errstate(invalid="ignore"):
         return _lowest_bound._gershgorin_count(expansions.centers[places], expansions.radii[places],
                                                found + error) <= count
+
+
+#: a speed between anchors whose discs (:func:`_certified`) count more than ``count`` roots below
+#: its predicted ``count``-th root less this share of it is not carried over (:func:`_doomed`)
+_DOOMED_SHARE = 0.02
+
+
+def _doomed(expansions, places, guesses, moved, count):
+    """(R,) the speeds ``expansions.between[places]`` whose certificate (:func:`_certified`) is
+    bound to fail: the Gershgorin discs of the nearer anchor's eigenbasis count more than
+    ``count`` roots below ``T``, the ``count``-th of Newton's starts ``guesses`` (R, k) less
+    ``_DOOMED_SHARE`` of it, plus the projection's error. The count grows with ``T``, and Newton's
+    iteration moves a start far less than that share (the starts are second-order), so such a
+    speed would be refined from its starts, fail :func:`_certified` and be refined again from
+    its own projected roots (:func:`._lowest_starts._projected_starts`): it takes them at once,
+    and the first Newton's iteration is saved (ROSS's compressor_example, 21 speeds: 13 of 17
+    speeds between anchors, each the same bits as before). A speed taken here wrongly (its
+    certificate would hold) is refined from its projected roots: the same roots to round-off."""
+    if guesses.shape[1] <= count or not len(places):
+        return np.zeros(len(places), bool)
+    between = expansions.between[places]
+    right = np.clip(np.searchsorted(expansions.solved, between), 1, len(moved) - 1)
+    error = 2 * np.maximum(moved[right - 1], moved[right])
+    with np.errstate(invalid="ignore"):
+        key = np.sort(np.where(np.isfinite(guesses), guesses.imag, np.inf), axis=1)[:, count - 1]
+        low = (1 - _DOOMED_SHARE) * key + error
+        counted = _lowest_bound._gershgorin_count(expansions.centers[places], expansions.radii[places], low)
+    return np.isfinite(low) & (counted > count)
 
 
 #: Newton's iteration holds about this many complex vectors of ``n`` per root at once (the vectors,

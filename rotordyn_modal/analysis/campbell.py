@@ -709,8 +709,9 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
 
     model = stack.models[0]
     # the shapes' products: BLAS's own threads only wait for a core on a shared machine (the
-    # batched solves run in threads of their own)
-    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+    # batched solves run in threads of their own, from _lowest.POOL_FROM coordinates on)
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES), \
+            _batches.calling_thread(stack.n_dof < _lowest.POOL_FROM):
         wanted = None
         if limit is not None:
             if stack.branch_times.shape[1]:

@@ -302,6 +302,8 @@ class _Ticker:
             if bar is None or bar.disable:
                 return
             try:
+                if self._seconds is not None and self.drawn and bar._time() < self._due(bar):
+                    continue                           # the bar wrote its own line meanwhile: none more yet
                 if bar._time() >= bar.start_t + bar.delay:
                     bar.refresh()
                     if self._seconds is not None:      # a log's line: the next update's waits from it
@@ -319,10 +321,22 @@ class _Ticker:
         tick = TICK_SECONDS if self._seconds is None else self._seconds
         bar = reference()
         try:
-            left = tick if bar is None or self.drawn else bar.start_t + bar.delay - bar._time()
+            if bar is None:
+                left = tick
+            elif not self.drawn:
+                left = bar.start_t + bar.delay - bar._time()
+            elif self._seconds is not None:    # a log's next line: an interval after the bar's last, whoever wrote it
+                return min(tick, max(self._due(bar) - bar._time(), 0.0) + 0.001)
+            else:
+                left = tick
         except Exception:
             left = tick
         return min(tick, left + 0.001) if left > 0 else tick
+
+    def _due(self, bar) -> float:
+        """When a log's bar may write its next line: :data:`LOG_SECONDS` (``seconds``) after its
+        last one, the clock's or tqdm's own on an update [s, the bar's clock]."""
+        return bar.last_print_t + self._seconds
 
     def stop(self):
         """Stop redrawing; returns once the thread has ended (at once from the thread itself: a

@@ -52,3 +52,35 @@ def test_a_chain_writes_at_most_one_line_an_interval(slow_log):
     lines = log.getvalue().splitlines()
     # the first line once the delay is past, then at most one per interval
     assert 2 <= len(lines) <= 1 + (elapsed - 2 * STEP) / (3 * STEP) + 1, (len(lines), elapsed, lines)
+
+
+class _TimedLog(io.StringIO):
+    """A log that notes when each of its lines was written [s, monotonic]."""
+
+    def __init__(self):
+        super().__init__()
+        self.times = []
+
+    def write(self, text):
+        self.times.extend(time.monotonic() for _ in range(text.count("\n")))
+        return super().write(text)
+
+
+def test_the_clock_waits_an_interval_after_the_bars_own_line(monkeypatch):
+    """The clock's lines and tqdm's own (written on an update) share one interval: a campbell of 500
+    geared rotors wrote lines 10 s apart in a log whose interval is 30 s (tqdm's own at 03:28, the
+    clock's at 03:38, on its own schedule)."""
+    interval = 0.6
+    monkeypatch.setattr(_progress, "LOG_DELAY", 0.1)
+    monkeypatch.setattr(_progress, "LOG_SECONDS", interval)
+    _progress.program_started()
+    log = _TimedLog()
+    with _progress.tqdm(total=10, desc="critical speeds", leave=False, file=log) as bar:
+        time.sleep(0.4)                      # the clock's first line at 0.1 s
+        bar.n = 5
+        bar.last_print_t = bar._time()       # tqdm's own line on an update, as its update() writes it
+        bar.refresh()
+        time.sleep(1.5)
+    gaps = [b - a for a, b in zip(log.times, log.times[1:])]
+    assert len(log.times) >= 3 and "5/10" in log.getvalue().splitlines()[1], log.getvalue()
+    assert min(gaps[1:]) >= 0.9 * interval, (gaps, log.getvalue())      # from the bar's own line on

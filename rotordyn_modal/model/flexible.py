@@ -625,7 +625,7 @@ def size_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     :data:`PLAUSIBLE_SHAFT_DIAMETER`, most likely a diameter in mm typed for m: the thickest
     named, with the count of the others."""
     lines = _length_lines(source, rotor, shaft) + _heavy_disk_lines(source, rotor, shaft) + \
-        _wide_disk_lines(source, rotor, shaft)
+        _wide_disk_lines(source, rotor, shaft) + _overhanging_disk_lines(source, rotor, shaft)
     thick = [(max(tube.outer), where) for i, section in enumerate(shaft.sections)
              for where, tube in ((f"shaft.{i}", section), *((f"shaft.{i}.layers.{k}", layer)
                                                           for k, layer in enumerate(section.layers)))
@@ -694,6 +694,30 @@ def _wide_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     return [f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] width = {disk.width:g}"
             f"{and_others(len(wide), 'disk')}: wider than the whole shaft it sits on ({shaft.length:g} m long); a "
             "width in mm typed for m? (model files are SI)"]
+
+
+#: a disk may reach beyond a shaft's end by this share of its width (round-off of positions
+#: typed to a few digits) without a warning
+_OVERHANG_SLACK = 1e-6
+
+
+def _overhanging_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
+    """One warning line for ``shaft``'s disks whose width reaches beyond an end of the shaft (a
+    disk given at the end, ``axial_position = 0.5`` on a 0.5 m shaft, where its mid-plane was
+    meant half its width inside): the disk's mass and inertia act at its station all the same,
+    while half of it hangs over nothing. The one reaching furthest named, with the count of the
+    others; disks wider than the whole shaft have their own line (:func:`_wide_disk_lines`)."""
+    def beyond(disk):
+        return max(disk.width / 2 - disk.z, disk.z + disk.width / 2 - shaft.length)
+
+    over = [d for d in shaft.disks if d.width is not None and d.width <= shaft.length
+            and beyond(d) > _OVERHANG_SLACK * d.width]
+    if not over:
+        return []
+    disk = max(over, key=beyond)
+    return [f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] axial_position = {disk.z:g} m, width = "
+            f"{disk.width:g} m{and_others(len(over), 'disk')}: the disk reaches {beyond(disk):.3g} m beyond the end of "
+            f"its shaft (0 to {shaft.length:g} m); its mid-plane {disk.width / 2:g} m inside the end was meant?"]
 
 
 def _length_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:

@@ -588,6 +588,10 @@ def mode_shape_3d(result, model, mode: int, scale: float | None = None, outline=
     ModeShape3D
     """
     k = mode_index(result, mode)
+    if scale is not None:      # NaN or inf drew a shape of NaN motions without a word; refused before the work
+        from ._arguments import number
+
+        scale = number(scale, "scale", "m per unit modal amplitude")
     drawing = machine_outline(model, outline)
     bodies = [_shaft_motion(result, model, b, k) if b.kind == "shaft" else _point_motion(result, b.vertices, b.name)[k]
               for b in drawing.bodies]
@@ -599,10 +603,6 @@ def mode_shape_3d(result, model, mode: int, scale: float | None = None, outline=
     largest = max([np.abs(b).max(initial=0.0) for b in bodies] + [np.abs(springs).max(initial=0.0)])
     if scale is None:
         scale = _DISPLAY_FRACTION * drawing.size / largest if largest > 0 else 1.0
-    else:      # NaN or inf drew a shape of NaN motions without a word
-        from ._arguments import number
-
-        scale = number(scale, "scale", "m per unit modal amplitude")
     return ModeShape3D(outline=drawing, mode=int(mode), frequency_hz=float(result.frequencies_hz[k]),
                        damping_ratio=float(result.damping_ratios[k]), whirl=str(result.whirl[k]),
                        whirl_ratio=float(result.whirl_ratios[k]), speed=float(result.speed), scale=float(scale),

@@ -162,6 +162,15 @@ def test_side_by_side_and_python_methods(gear, tmp_path):
         result.plot_shape(0, model)
 
 
+@pytest.mark.parametrize("mode", [True, np.bool_(True), False])
+def test_a_boolean_is_not_a_mode_number(gear, mode):
+    """True is an int to Python: it drew mode 1 without a word (session 46)."""
+    model, result = gear
+    for draw in (mode_shape_3d, rdm.shaft_lines):
+        with pytest.raises(InputError, match="expected a mode number from 1 to 6"):
+            draw(result, model, mode)
+
+
 def _gif_frame_durations(path):
     """How long each frame of a GIF is shown [ms]."""
     from PIL import Image

@@ -557,8 +557,10 @@ def whirl_direction(motion) -> np.ndarray:
 def mode_index(result, mode: int) -> int:
     """Index into ``result`` of the oscillatory mode numbered ``mode`` (from 1, as in the table)."""
     oscillatory = np.nonzero(result.oscillatory)[0]
-    # NaN or a string: this message, not numpy's or int()'s words without the argument's name
-    number = np.asarray(mode) if isinstance(mode, (int, float, np.number)) else np.asarray(np.nan)
+    # NaN or a string: this message, not numpy's or int()'s words without the argument's name;
+    # True is an int to Python and drew mode 1 without a word
+    is_number = isinstance(mode, (int, float, np.number)) and not isinstance(mode, (bool, np.bool_))
+    number = np.asarray(mode) if is_number else np.asarray(np.nan)
     if not (number.ndim == 0 and np.isfinite(number) and 1 <= int(mode) <= len(oscillatory) and int(mode) == mode):
         raise InputError(f"mode {mode!r}: expected a mode number from 1 to {len(oscillatory)} "
                          "(the 'mode' column of the modes table)")

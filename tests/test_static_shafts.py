@@ -308,6 +308,69 @@ def test_rigid_rotors_have_no_shafts_and_the_csv_keeps_its_columns(examples_dir)
         "ux_m", "uy_m", "uz_m", "rx_rad", "ry_rad", "rz_rad", "on", "eccentricity", "attitude_deg"]
 
 
+@pytest.mark.parametrize("axis", [(1.0, 0.0, 0.0), (0.0, 0.6, 0.8)])
+def test_a_force_at_an_axial_position_is_shared_by_the_lever_rule(axis):
+    """A force F at axial_position z of a shaft on supports at 0 and L: the supports carry
+    F (L - z) / L and F z / L (statics, no weight); the same as the force at the 3-D point
+    start + z * axis of that station (session 46: the 3-D point was the only way to say it)."""
+    length, z, force = 1.0, 0.3, np.array([0.0, 0.0, -100.0])
+    if axis[2]:
+        force = np.array([0.0, -80.0, 60.0])          # across the inclined axis
+    model = _shaft(length, (0.0, length), axis=axis, gravity=(0.0, 0.0, 0.0), forces_at=(z,))
+    by_station = rdm.static(model, forces=[{"body": "s", "axial_position": z, "force": force}])
+    shares = np.array([(length - z) / length, z / length])
+    np.testing.assert_allclose(_bearing_forces(by_station), -shares[:, None] * force, rtol=1e-9, atol=1e-9)
+    by_point = rdm.static(model, forces=[("s", z * np.array(axis), force)])
+    np.testing.assert_allclose(by_station.coordinates, by_point.coordinates, rtol=1e-12, atol=1e-20)
+
+
+@pytest.mark.parametrize("item, message", [
+    ({"body": "s", "axial_position": 1.2, "force": [0, 0, 1]},
+     r"forces\[0\] axial_position = 1.2 m: expected a position along rotor s's shaft, from 0 \(its start\) to 1 m"),
+    ({"body": "s", "axial_position": float("nan"), "force": [0, 0, 1]}, r"forces\[0\] axial_position = nan"),
+    ({"body": "s", "axial_position": "0.3", "force": [0, 0, 1]}, r"forces\[0\] axial_position = '0.3'"),
+    ({"body": "s", "axial_position": 0.3, "point": [0.3, 0, 0], "force": [0, 0, 1]},
+     r"forces\[0\]: either point or axial_position, not both"),
+])
+def test_a_bad_axial_position_is_refused_by_name(item, message):
+    with pytest.raises(rdm.InputError, match=message):
+        rdm.static(_shaft(1.0, (0.0, 1.0)), forces=[item])
+
+
+def test_axial_position_on_a_rigid_rotor_is_refused(examples_dir):
+    model = rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml")
+    with pytest.raises(rdm.InputError, match=r"forces\[0\] axial_position: expected no value: .* rotor motor has none"):
+        rdm.static(model, forces=[{"body": "motor", "axial_position": 0.1, "force": [0, 0, 1]}])
+
+
+def test_static_command_takes_a_force_at_a_station(tmp_path, examples_dir, capsys):
+    """``--force pump@0.03:...`` is the force at the impeller's station, 0.03 m from the shaft's
+    start [-0.5, -0.12, 0.22] along +x: the same tables as the 3-D point form; in US units
+    AXIAL is in inches; a bad AXIAL is refused with exit code 2."""
+    model = examples_dir / "flexible_pump_on_mounts.toml"
+    station, point = tmp_path / "station.csv", tmp_path / "point.csv"
+    assert main(["static", str(model), "--force", "pump@0.03:0,0,-200", "--out", str(station), "--quiet"]) == 0
+    assert main(["static", str(model), "--force", "pump:-0.47,-0.12,0.22:0,0,-200", "--out", str(point),
+                 "--quiet"]) == 0
+    a, b = pd.read_csv(station), pd.read_csv(point)
+    numbers = a.select_dtypes("number").columns
+    np.testing.assert_allclose(a[numbers].to_numpy(float), b[numbers].to_numpy(float), rtol=1e-9, atol=1e-15)
+    us = tmp_path / "us.csv"
+    inch, pound_force = unit_size("length", "us"), unit_size("force", "us")
+    axial, load = 0.03 / inch, 200.0 / pound_force
+    assert main(["--units", "us", "static", str(model), "--force", f"pump@{axial!r}:0,0,-{load!r}", "--out", str(us),
+                 "--quiet"]) == 0
+    c = pd.read_csv(us)
+    np.testing.assert_allclose(c["uz_in"].to_numpy(float) * inch, a["uz_m"].to_numpy(float), rtol=1e-9, atol=1e-15)
+    capsys.readouterr()
+    for typed, said in (("pump@0.6:0,0,-200", "axial_position = 0.6 m: expected a position along rotor pump's shaft, "
+                                              "from 0 (its start) to 0.45 m"),
+                        ("pump@x:0,0,-200", "AXIAL 'x': expected a number [m] from the shaft's start"),
+                        ("motor@0.1:0,0,1", "axial_position: expected no value")):
+        assert main(["static", str(model), "--force", typed, "--quiet"]) == 2
+        assert said in capsys.readouterr().err
+
+
 # -- the command line and the figure ----------------------------------------------------------------
 def test_static_command_lists_the_shaft_and_writes_its_rows_in_us_units(tmp_path, examples_dir, capsys):
     model = examples_dir / "flexible_pump_on_mounts.toml"

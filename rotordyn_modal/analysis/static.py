@@ -358,7 +358,9 @@ def static(model, speed=None, forces=None, torques=None, power=None, units: str 
         Static loads, each ``(body, point, force)`` or ``(body, point, force, moment)`` or a
         mapping with those keys: ``body`` ``"stator"`` or a rotor's name, ``point`` (3,) [m],
         ``force`` (3,) [N], ``moment`` (3,) [N m], model axes (a mapping may leave out
-        ``force``, ``moment``, and ``point`` when it gives a moment alone).
+        ``force``, ``moment``, and ``point`` when it gives a moment alone). On a flexible rotor a
+        mapping may give ``axial_position`` [m] from the shaft's start in place of ``point``, as
+        the model file places its stations.
     torques : float or mapping, optional
         Torque [N m] each transmission's driver passes on (positive: the driver drives the
         driven rotor), by ``"DRIVER->DRIVEN"``; one number: every transmission.
@@ -444,16 +446,21 @@ def _loads(model, speed, forces, torques, units="si") -> list:
 def _given_load(model, index: int, item, units="si") -> StaticLoad:
     """One item of ``forces`` checked: ``(body, point, force[, moment])`` or a mapping."""
     name = f"forces[{index}]"
+    axial = None
     if isinstance(item, dict):
-        unknown = set(item) - {"body", "point", "force", "moment"}
+        unknown = set(item) - {"body", "point", "axial_position", "force", "moment"}
         if unknown:
-            raise InputError(f"{name}: unknown key {sorted(unknown)[0]!r}: expected body, point, force, moment")
+            raise InputError(f"{name}: unknown key {sorted(unknown)[0]!r}: expected body, point (or "
+                             "axial_position), force, moment")
         body, point, force, moment = (item.get(k) for k in ("body", "point", "force", "moment"))
+        axial = item.get("axial_position")
     elif isinstance(item, (tuple, list)) and len(item) in (3, 4):
         body, point, force, moment = (*item, None)[:4]
     else:
         raise InputError(f"{name} = {item!r}: expected (body, point, force) or (body, point, force, moment)")
     body = _body(model, body, name)
+    if axial is not None:
+        point = _station_point(model, body, axial, point, name, units)
     if point is None:    # a moment alone: its point does not matter; shown at the body's centre
         point = model.reference_point if body is None else model.rotor(body).center_of_mass
     vectors = [_vector3(value, f"{name} {key}") for key, value in
@@ -463,6 +470,28 @@ def _given_load(model, index: int, item, units="si") -> StaticLoad:
         raise InputError(f"{name} point = {_listed(vectors[0], units)}"
                          f"{'' if units == 'si' else ' ' + unit_label('length', units)}: expected a point along {off}")
     return StaticLoad("force", name, body, *vectors)
+
+
+def _station_point(model, body, axial, point, name: str, units="si") -> np.ndarray:
+    """The point on a flexible rotor's axis at ``axial`` [m] from its shaft's start, as the
+    model file's ``axial_position`` places a station (the 3-D point on a shaft that does not
+    start at the origin was the only way to say it)."""
+    shaft = None if body is None else model.rotor(body).flexible
+    length_unit = unit_label("length", units)
+    if shaft is None:
+        raise InputError(f"{name} axial_position: expected no value: axial_position places a load "
+                         f"on a flexible rotor's shaft and {'the stator' if body is None else 'rotor ' + visible(body)}"
+                         " has none (give point, model axes)")
+    if point is not None:
+        raise InputError(f"{name}: either point or axial_position, not both")
+    z = _arguments.number(axial, f"{name} axial_position", "m")
+    slack = STATION_TOLERANCE * (1.0 + shaft.length)
+    if not -slack <= z <= shaft.length + slack:
+        length = float(to_system(shaft.length, "length", units))
+        shown = float(to_system(z, "length", units))
+        raise InputError(f"{name} axial_position = {shown:.6g} {length_unit}: expected a position along rotor "
+                         f"{visible(body)}'s shaft, from 0 (its start) to {length:.6g} {length_unit}")
+    return shaft.point(min(max(z, 0.0), shaft.length))
 
 
 def _off_shaft(model, body, point, units="si") -> str:

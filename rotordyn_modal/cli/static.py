@@ -1,4 +1,5 @@
-"""``static MODEL [--speed S] [--transmitted-power W] [--force BODY:X,Y,Z:FX,FY,FZ] [--allowable-stress PA]
+"""``static MODEL [--speed S] [--transmitted-power W] [--force BODY:X,Y,Z:FX,FY,FZ | ROTOR@AXIAL:FX,FY,FZ]
+[--allowable-stress PA]
 [--out FILE.csv]``."""
 
 from __future__ import annotations
@@ -42,6 +43,8 @@ verdict (pass when it is at most the allowable stress; 'not evaluated' without o
 BODY is 'stator' or a rotor's name; points and vectors are in model axes, SI units (m, N, N m;
 with --units us: in, lbf, lbf in, and --transmitted-power in hp; the tables then in in, lbf, lbf in, their
 columns named x_in, Fx_lbf, Mx_lbfin, ux_in; docs/units.md).
+On a flexible rotor --force ROTOR@AXIAL:FX,FY,FZ places the force at the station AXIAL from the
+shaft's start, as axial_position in the model file (the same as the point there on the axis).
 A moment acts on the body as a whole (--moment BODY:MX,MY,MZ). --transmitted-power W is the
 power every transmission carries from its driver to its driven rotor (negative: the other way);
 --transmitted-power DRIVER->DRIVEN=W names one transmission (repeat the option for others).
@@ -61,6 +64,7 @@ examples:
   rotordyn-modal static examples/gear_machine.toml --speed 3000 --transmitted-power 15000 --out static.csv
   rotordyn-modal static examples/journal_rotor.toml --speed 6000 --force rotor:0,0,0:0,0,-200
   rotordyn-modal static examples/flexible_pump_on_mounts.toml --plot shaft.png
+  rotordyn-modal static examples/flexible_pump_on_mounts.toml --force pump@0.03:0,0,-200
   rotordyn-modal static examples/flexible_pump_on_mounts.toml --allowable-stress 120e6"""
 
 
@@ -74,7 +78,9 @@ def add_arguments(parser):
                              "(repeat with DRIVER->DRIVEN=W for each one)")
     add_alias(parser, "--transmitted-power", "--power")
     parser.add_argument("--force", action="append", metavar="BODY:X,Y,Z:FX,FY,FZ",
-                        help="a static force [N; lbf] at a point [m; in] of the stator or a rotor (repeat for more)")
+                        help="a static force [N; lbf] at a point [m; in] of the stator or a rotor, or "
+                             "ROTOR@AXIAL:FX,FY,FZ at a flexible rotor's station AXIAL [m; in] from its "
+                             "shaft's start (repeat for more)")
     parser.add_argument("--moment", action="append", metavar="BODY:MX,MY,MZ",
                         help="a static moment [N m; lbf in] on the stator or a rotor (repeat for more)")
     parser.add_argument("--allowable-stress", metavar="STRESS",
@@ -211,14 +217,27 @@ def _vector(text: str, option: str, whole: str) -> list:
     return [parse_number(p.strip(), option) for p in parts]
 
 
-def _force(text: str, system: str = "si") -> tuple:
-    """``BODY:X,Y,Z:FX,FY,FZ`` (in ``system``'s units) -> ``(body, point [m], force [N])``."""
-    body, _, rest = text.rpartition(":")
-    body, _, point = body.rpartition(":")
+def _force(text: str, system: str = "si"):
+    """``BODY:X,Y,Z:FX,FY,FZ`` (in ``system``'s units) -> ``(body, point [m], force [N])``, or
+    ``ROTOR@AXIAL:FX,FY,FZ`` (a station of a flexible rotor, ``AXIAL`` from its shaft's start as
+    the model file's ``axial_position``) -> ``{"body", "axial_position" [m], "force" [N]}``."""
+    head, _, rest = text.rpartition(":")
+    body, _, point = head.rpartition(":")
+    if not body and "@" in head:
+        rotor, _, axial = head.rpartition("@")
+        if rotor:
+            try:
+                axial = parse_number(axial, "--force")
+            except InputError:
+                raise InputError(f"--force {text!r}: AXIAL {axial!r}: expected a number [{unit_label('length', system)}] "
+                                 "from the shaft's start") from None
+            return {"body": rotor, "axial_position": float(from_system(axial, "length", system)),
+                    "force": list(from_system(_vector(rest, "--force", text), "force", system))}
     if not body:
+        length, force = unit_label("length", system), unit_label("force", system)
         raise InputError(f"--force {text!r}: expected BODY:X,Y,Z:FX,FY,FZ (body 'stator' or a rotor's name, "
-                         f"a point [{unit_label('length', system)}] and a force [{unit_label('force', system)}] "
-                         "in model axes)")
+                         f"a point [{length}] and a force [{force}] in model axes) or ROTOR@AXIAL:FX,FY,FZ "
+                         f"(a flexible rotor's station, AXIAL [{length}] from its shaft's start)")
     return body, list(from_system(_vector(point, "--force", text), "length", system)), \
         list(from_system(_vector(rest, "--force", text), "force", system))
 

@@ -605,3 +605,46 @@ def test_study_campbell_names_each_excitation_line_beside_it_and_clear_of_the_cu
         for b in boxes[i + 1:]:
             assert not a.overlaps(b)
     plt.close(fig)
+
+
+# ---------------------------------------------------------------------------- keys the model file leaves out
+def _hollowed(examples_dir, inner):
+    """The flexible pump with its middle section's bore given by hand in the description (the
+    route that shares no code with dotted keys)."""
+    data = rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml").to_dict()
+    data["rotors"][1]["shaft"][1]["inner_diameter"] = inner
+    return rdm.Model.from_dict(data, "hollowed")
+
+
+def test_a_study_sets_a_key_the_model_file_leaves_out(examples_dir):
+    """``rotors.pump.shaft.1.inner_diameter`` is optional (a solid section): a study may set it
+    (session 46: it was refused as 'no value there'); each variant equals the model with the
+    bore written into its description, and a bore of 0 the file as it is."""
+    model = rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml")
+    assert "inner_diameter" not in model.to_dict()["rotors"][1]["shaft"][1]
+    spec = parse_study({"seed": 1, "parameters": [{"key": "rotors.pump.shaft.1.inner_diameter",
+                                                   "values": [0.0, 0.02]}],
+                        "analyses": {"modes": {"speed_rpm": 0.0}}}, model=model)
+    ds = rdm.study(model, spec).dataset
+    np.testing.assert_array_equal(ds["modal_frequency_hz"].values[0], rdm.modal(model, 0.0).frequencies_hz)
+    hollow = rdm.modal(_hollowed(examples_dir, 0.02), 0.0).frequencies_hz
+    np.testing.assert_array_equal(ds["modal_frequency_hz"].values[1], hollow)
+    assert not np.array_equal(hollow, rdm.modal(model, 0.0).frequencies_hz)
+    assert model.with_values({"rotors.pump.shaft.1.inner_diameter": 0.02}).rotor("pump").mass == \
+        _hollowed(examples_dir, 0.02).rotor("pump").mass
+    assert "inner_diameter" not in model.to_dict()["rotors"][1]["shaft"][1]      # the base model is unchanged
+
+
+@pytest.mark.parametrize("parameter, message", [
+    ({"key": "rotors.pump.shaft.1.inner_diameter", "scale": [0.5, 1.0]},
+     "the model file gives no 'inner_diameter' there, so there is no value to multiply"),
+    ({"key": "rotors.pump.shaft.1.inner_diamter", "values": [0.0, 0.01]},
+     r"the file leaves 'inner_diamter' out and the model does not take it at 0: .*did you mean 'inner_diameter'"),
+    ({"key": "materials.steel.shear_modulus", "values": [7e10, 8e10]},
+     "expected exactly one of shear_modulus"),
+])
+def test_a_key_the_file_leaves_out_is_refused_before_any_variant_where_it_cannot_be_set(examples_dir, parameter,
+                                                                                         message):
+    model = rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml")
+    with pytest.raises(StudyError, match=message):
+        parse_study({"seed": 1, "parameters": [parameter], "analyses": {"modes": {"speed_rpm": 0.0}}}, model=model)

@@ -275,7 +275,7 @@ def _own_value(data: dict, key: str, source: str, owned: set):
     description as it was. ``owned`` records the copies already made (ids, and
     ``(id, field)`` pairs). Returns where the value sits (see
     :func:`~rotordyn_modal.model.parameters.parse_key`), in ``data``'s own copies."""
-    container, field, indices = parse_key(key, data, source)
+    container, field, indices = parse_key(key, data, source, missing_ok=True)
     if container is not data and id(container) not in owned:
         table = key.partition(".")[0]
         copy = dict(container)
@@ -293,7 +293,7 @@ def _own_value(data: dict, key: str, source: str, owned: set):
                 items[place] = copy
         owned.add(id(copy))
         container = copy
-    if (id(container), field) not in owned:
+    if (id(container), field) not in owned and field in container:    # absent: set, not copied
         container[field] = _validation.plain_copy({field: container[field]}, source)[field]
         owned.add((id(container), field))
     return container, field, indices

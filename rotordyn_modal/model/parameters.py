@@ -27,8 +27,12 @@ __all__ = ["parse_key", "get_value", "value_at", "set_value", "scale_value", "ch
 _INDEX = re.compile(r"\[(-?\d+)\]")
 
 
-def parse_key(key: str, data: dict, source: str = "<model>"):
+def parse_key(key: str, data: dict, source: str = "<model>", missing_ok: bool = False):
     """Split a dotted key into (container, field, indices), resolving table names.
+
+    ``missing_ok``: a key its table leaves out (a section's ``inner_diameter``, a material's
+    ``shear_modulus``) may be named, to be set: the model's validation then takes it or refuses
+    it as a key of that table (with its own words, e.g. a misspelt key's suggestion).
 
     Returns
     -------
@@ -56,7 +60,7 @@ def parse_key(key: str, data: dict, source: str = "<model>"):
     else:
         raise InputError(f"{source}: parameter key {key!r}: expected it to start with one of "
                          + ", ".join(("stator",) + ARRAY_TABLES) + " or to be a top-level key")
-    if field not in container:
+    if field not in container and not (missing_ok and not indices):
         known = visible_names(k for k in container if not isinstance(container[k], (dict, list)) or
                           (isinstance(container[k], list) and container[k] and not isinstance(container[k][0], dict)))
         raise InputError(f"{source}: parameter key {key!r}: no value {field!r} there (it has {known})")
@@ -97,6 +101,9 @@ def get_value(data: dict, key: str, source: str = "<model>"):
 def value_at(located, key, source):
     """The value at a place :func:`parse_key` found (``(container, field, indices)``)."""
     container, field, indices = located
+    if field not in container:        # named to be set (parse_key's missing_ok): nothing to read
+        raise InputError(f"{source}: parameter key {key!r}: the model file gives no {field!r} there, so there is "
+                         f"no value to multiply (set it with values / apply = 'value', or give {field} in the file)")
     value = container[field]
     for depth, index in enumerate(indices):
         value = _index(value, index, key, depth, source)
@@ -112,8 +119,9 @@ def _index(value, index, key, depth, source):
 
 
 def set_value(data: dict, key: str, value: Any, source: str = "<model>") -> None:
-    """Set the value a dotted key names (in place)."""
-    change_at(parse_key(key, data, source), "value", value, key, source)
+    """Set the value a dotted key names (in place); a key its table leaves out is added (the
+    model's validation takes or refuses it)."""
+    change_at(parse_key(key, data, source, missing_ok=True), "value", value, key, source)
 
 
 def scale_value(data: dict, key: str, factor: float, source: str = "<model>") -> None:

@@ -280,7 +280,7 @@ def _one_parameter_per_value(parameters, places, source):
     seen = []
     for i, (parameter, located) in enumerate(zip(parameters, places)):
         for key, (container, name, indices) in zip(parameter.keys, located):
-            place = (id(container), name, _positive_indices(container[name], indices))
+            place = (id(container), name, _positive_indices(container[name], indices) if indices else ())
             for j, other, other_key, (c, n, idx) in seen:
                 shorter = min(len(idx), len(place[2]))
                 if (c, n) != place[:2] or idx[:shorter] != place[2][:shorter]:
@@ -425,7 +425,7 @@ def _check_keys(parameter, number, model, data, where, source) -> list:
     places = []
     for key in parameter.keys:
         try:
-            located = parse_key(key, data, model.source)
+            located = parse_key(key, data, model.source, missing_ok=True)   # scale: refused by change_at
         except InputError as error:
             raise StudyError(source, f"{where} key", key, f"a dotted key of the model ({error})") from None
         if parameter.apply == "value" and _holds_array(located, key, model.source):
@@ -433,12 +433,31 @@ def _check_keys(parameter, number, model, data, where, source) -> list:
                              "array: multiply it with scale / apply = 'scale', or pick an element with [i])")
         container, name, indices = located
         try:
-            change_at(({name: copy.deepcopy(container[name])}, name, indices), parameter.apply, float(number), key,
-                      model.source)
+            here = {name: copy.deepcopy(container[name])} if name in container else {}
+            change_at((here, name, indices), parameter.apply, float(number), key, model.source)
         except InputError as error:
             raise StudyError(source, f"{where} key", key, f"a dotted key of the model ({error})") from None
+        if name not in container:
+            _refuse_unknown_key(model, key, name, float(number), f"{where} key", source)
         places.append(located)
     return places
+
+
+def _refuse_unknown_key(model, key: str, name: str, number: float, where: str, source) -> None:
+    """A key the model file leaves out may be set only where its table takes it: the model's
+    refusal of the key itself at ``number`` (a misspelt ``inner_diamter``, with its suggestion;
+    a material's ``shear_modulus`` beside its ``poisson_ratio``) is said now, not by every
+    variant failing."""
+    import warnings
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            model.variant([(key, "value", number)])
+    except InputError as error:
+        if f"] {name} = " in str(error):
+            raise StudyError(source, where, key, f"a dotted key of the model (the file leaves {name!r} out and "
+                             f"the model does not take it at {number:.6g}: {error})") from None
 
 
 def _grid_ends(grid, item, grid_key) -> list:
@@ -491,7 +510,9 @@ def _check_range(parameter, model, ends, where, source):
     if model is None:
         return
     for number, study_key, shown in ends:
-        turned = [key for key in parameter.keys if _turns_non_positive(model.get(key), parameter.apply, number)]
+        turned = [key for key in parameter.keys   # a set key may be one the file leaves out: not read
+                  if _turns_non_positive(None if parameter.apply == "value" else model.get(key), parameter.apply,
+                                         number)]
         error = _refusal(model, parameter, number) if turned else None
         if error is None or (number != 0 and _refusal(model, parameter, abs(number)) is not None):
             continue

@@ -212,14 +212,14 @@ def test_a_studys_key_checks_parse_each_key_once(monkeypatch):
     calls = []
     original = parameters_module.parse_key
 
-    def counted(key, data, source="<model>"):
+    def counted(key, data, source="<model>", **options):
         frame, names = sys._getframe(1), set()
         while frame is not None:
             names.add(frame.f_code.co_name)
             frame = frame.f_back
         if names & checks:
             calls.append(key)
-        return original(key, data, source)
+        return original(key, data, source, **options)
 
     monkeypatch.setattr(parameters_module, "parse_key", counted)
     front = "suspensions.mount-FL.stiffness"

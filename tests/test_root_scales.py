@@ -64,16 +64,23 @@ def _csv(argv, capsys):
 def test_a_fast_maxwell_branch_hides_no_mount_mode(fast_branch, examples_dir, tmp_path):
     """A branch of 1e-8 s adds roots near -1e8 1/s and, as a damper, only K_b tau = 6e-4 N s/m:
     the six mount modes are those of the mounts without that branch, and the state matrix's
-    own complex roots (scipy) are the modes listed."""
+    own complex roots are the modes listed: its exact roots (30 digits, mpmath), as scipy's
+    double-precision ``eigvals`` is not to 1e-9 here (the model loses about 6 of 16 digits, and
+    with OpenBLAS's Haswell kernels one of its roots is 3.6e-9 off; session 46)."""
+    import mpmath
+
     speed = rdm.rpm(1000)
     model = rdm.load_model(fast_branch)
     result = rdm.modal(model, speed)
     assert result.oscillatory.sum() == 6
-    roots = scipy.linalg.eigvals(speed_linear_form(model).at(speed))
+    mpmath.mp.dps = 30
+    state = speed_linear_form(model).at(speed)
+    roots = np.array([complex(e) for e in mpmath.eig(mpmath.matrix(state.tolist()), left=False, right=False)])
     upper = np.sort_complex(roots[roots.imag > 1.0])          # every complex root above 0.16 Hz
     listed = result.eigenvalues[result.oscillatory]
-    np.testing.assert_allclose(np.sort(listed.imag), np.sort(upper.imag), rtol=1e-9)
-    np.testing.assert_allclose(np.sort(listed.real), np.sort(upper.real), rtol=1e-9)
+    # each root to 1e-9 of its size (issue 28 §4): its real part alone, 2 % of it, is no better than
+    # the model's lost digits allow (1.7e-10 of the root: 7e-9 of the real part)
+    np.testing.assert_allclose(listed[np.argsort(listed.imag)], upper[np.argsort(upper.imag)], rtol=1e-9)
     # the physics: a branch that fast is no stiffness at these frequencies, only its tiny damping
     text = (examples_dir / "rubber_mounts.toml").read_text()
     slow_only = tmp_path / "slow_only.toml"

@@ -150,21 +150,35 @@ def test_a_real_root_beside_a_large_one_is_polished():
     assert values[1] == -1.0 and values[2] == -2.0                  # exact already: untouched
 
 
+def _uncoupled_roots50(model):
+    """The uncoupled rotor's roots at rest to 50 digits (``tests/test_roots31.py``'s Newton solves
+    of the two planes' blocks): the package's own roots of the uncoupled model, the reference
+    before, were 2.3e-12 off with OpenBLAS's Haswell kernels where the coupled model's were 4e-16."""
+    from test_roots31 import _newton50, _planes
+
+    M, C, _, K = (np.asarray(A) for A in model.matrices(0.0))
+    roots = []
+    for plane in _planes(M, C, K):
+        block = [A[np.ix_(plane, plane)] for A in (M, C, K)]
+        start = np.sqrt(np.linalg.eigvals(np.linalg.solve(block[0], block[2])).astype(complex)) * 1j
+        roots += [_newton50(*block, s) for s in start]
+    return np.array(roots)
+
+
 def test_defective_double_roots_are_polished_to_their_mean(tmp_path):
     """Friswell 5.9.4 as ROSS builds it, at rest: kxy alone makes K block-triangular, so every root
     is a defective double root (a Jordan block), exactly a root of the same rotor with kxy = 0.
     The solve splits each by the square root of its round-off; the estimate took them for exact
     (1e-12). Now nearly parallel shapes of roots this close are estimated at their split, polished
-    as a pair and made their mean: the lowest ten within 1e-12 of the uncoupled rotor's, in `modes`
-    and in the Campbell diagram (main: 1.9e-7 off)."""
+    as a pair and made their mean: the lowest ten within 1e-12 of the uncoupled rotor's (50-digit
+    roots), in `modes` and in the Campbell diagram (main: 1.9e-7 off)."""
     from rotordyn_modal.cli import main
 
     source = Path(__file__).parent / "data" / "ross" / "friswell_5_9_4.toml"
     path = tmp_path / "friswell_5_9_4.toml"
     assert main(["import-ross", str(source), "--out", str(path), "--quiet"]) == 0
     model = rdm.load_model(path)
-    uncoupled = model.with_values({f"bearings.{b.name}.stiffness": [1.0e6, 1.0e6] for b in model.bearings})
-    truth = np.asarray(rdm.modal(uncoupled, 0.0).eigenvalues)
+    truth = _uncoupled_roots50(model)
     result = rdm.modal(model, 0.0)
     sweep = rdm.campbell(model, np.array([0.0, 10.0]), orders=(1,), critical=False)
     for roots in (result.eigenvalues[result.oscillatory][:10], sweep.eigenvalues[0][sweep.oscillatory[0]][:10]):

@@ -103,7 +103,10 @@ def _errors(found, truth):
 
 def test_every_mode_at_rest_is_exact_in_modes(friswell_5_9_4, truth):
     """Main: modes 11 to 20 1.5e-9, 1.1e-9, 1.4e-9, 4.6e-10, 3.0e-10 off (11 and 12 over the 1e-9 the
-    issue asks), the lowest ten within 5e-14 (polished), without a warning."""
+    issue asks), the lowest ten within 5e-14 (polished), without a warning. The pairs past the
+    polish's budget are their means, within the 1e-9 asked: how far within depends on the
+    round-off of the dense solve's split, that is on the BLAS kernels (OpenBLAS's SkylakeX kernels:
+    modes 11 to 20 within 2.3e-15; its Haswell kernels, on an AMD EPYC: 2.2e-10; session 46)."""
     assert len(truth) == 28 and np.all(truth.imag > 0)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -111,17 +114,18 @@ def test_every_mode_at_rest_is_exact_in_modes(friswell_5_9_4, truth):
     roots = result.eigenvalues[result.oscillatory]
     assert len(roots) == 28
     error, _ = _errors(roots, truth)
-    assert error[:20].max() < 1e-13, error
+    assert error[:10].max() < 1e-13, error
     assert error.max() < 1e-9, error
     assert not [w for w in caught if "exact only to" in str(w.message)]
 
 
 def test_every_mode_at_rest_is_exact_in_the_campbell_diagram(friswell_5_9_4, truth):
-    """The sweep's polish, with its whirl forms: the same (main: 1.5e-9 for modes 11 and 12)."""
+    """The sweep's polish, with its whirl forms: the same (main: 1.5e-9 for modes 11 and 12; modes
+    11 to 20 as in ``modes``, within 1e-9 by their BLAS kernels' round-off)."""
     sweep = rdm.campbell(friswell_5_9_4, np.array([0.0, 10.0]), orders=(1,), critical=False)
     roots = sweep.eigenvalues[0][sweep.oscillatory[0]]
     error, _ = _errors(roots, truth)
-    assert error[:20].max() < 1e-13, error
+    assert error[:10].max() < 1e-13, error
     assert error.max() < 1e-9, error
 
 

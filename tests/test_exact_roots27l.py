@@ -99,7 +99,9 @@ def test_a_root_the_polish_cannot_converge_is_still_warned(tmp_path, monkeypatch
     assert len(warned) == 1 and "mode(s) 1, 2, 5, 6 at 3,000 rpm" in warned[0], warned   # the pair's too
     bound = float(re.search(r"exact only to about ([0-9.e+-]+) relative", warned[0]).group(1))
     error = np.abs(_fifth_and_sixth(result.frequencies_hz) - TRUTH_HZ) / TRUTH_HZ
-    assert 1e-7 < error.max() <= bound, (error, bound)
+    # left as QR gave them: beyond the 1e-9 a polished root keeps (4.1e-8 with OpenBLAS's Haswell
+    # kernels, over 1e-7 with SkylakeX's), and within the bound the warning names
+    assert 1e-9 < error.max() <= bound, (error, bound)
 
 
 #: the same shaft in a 60 kg casing on eight mounts with two Maxwell branches each (module

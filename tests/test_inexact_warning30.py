@@ -52,7 +52,10 @@ def test_modes_warning_names_the_real_roots_at_the_pole_not_modes(fast_branch):
     near_pole = real[np.abs(real - POLE) < 1e-3 * abs(POLE)]
     assert len(near_pole) >= 2                                        # the mounts' relaxations at the pole
     assert len(said) == 1, said
-    assert "2 real root(s) (-50 1/s; not modes)" in said[0], said
+    # how many of the roots at the pole Newton leaves is the round-off's (2 with OpenBLAS's SkylakeX
+    # kernels, 4 with its Haswell kernels): at least two, and no more than lie there
+    found = re.search(r"(\d+) real root\(s\) \(-50 1/s; not modes\)", said[0])
+    assert found and 2 <= int(found.group(1)) <= len(near_pole), said
     assert set(_named_modes(said[0])) <= set(table["mode"]), (said, len(table))
 
 

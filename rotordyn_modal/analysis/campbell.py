@@ -1154,8 +1154,41 @@ def _links_of_steps(stack, speeds, values, steps, count, progress=False) -> dict
         for s, k in enumerate(run):
             link = _step_link(labels[s], labels[s + 1], np.flatnonzero(untold[ends[s]:ends[s + 1]].any(axis=0)))
             if link is not None:
+                link = _within_repeated_roots(link, labels[s + 1], lam[at[ends[s]]], order[ends[s]], values[k],
+                                              values[k + 1])
+            if link is not None:
                 links[int(k)] = link
     return links
+
+
+def _within_repeated_roots(link, after, lam, order, values, following):
+    """``link`` (:func:`_step_link`) with a root said to enter joined to the sweep's root it
+    continues inside a repeated root: the check's label of root ``j`` at the step's second speed
+    (``after[j]``) is, at its first, a copy (within :data:`_SAME_VALUE`) of a sweep root ``i`` no other
+    root continues, and root ``j`` lies within tracking's ``_KEPT_DISTANCE`` of ``|lambda|`` of it (not
+    a root born far below as one leaves at the top, which the check's tracking pairs). A repeated
+    root's shapes are any basis of its eigenspace, so the sweep's copy and the check's copy of it
+    are one root, whichever basis each solve chose (two identical uncoupled shafts at rest: a
+    quadruple root, whose forward copy kept below the cut entered as a new column with OpenBLAS's
+    Haswell kernels). ``lam`` (m,) and ``order`` (m,) are the check's roots and tracking at the
+    first speed, ``values`` (c,) the sweep's roots there and ``following`` (c,) at the second.
+    None where each sweep root then continues the one the sweep tracked."""
+    from .tracking import _KEPT_DISTANCE
+
+    claimed = {i for i in link.values() if i is not None}
+    for j, i in link.items():
+        if i is not None or after is None:
+            continue
+        there = lam[order[int(after[j])]]
+        for candidate in range(len(values)):
+            size = abs(values[candidate])
+            if candidate not in claimed and np.isfinite(values[candidate]) \
+                    and abs(values[candidate] - there) <= _SAME_VALUE * size \
+                    and abs(following[j] - values[candidate]) <= _KEPT_DISTANCE * size:
+                link[j] = candidate
+                claimed.add(candidate)
+                break
+    return None if all(i == j for j, i in link.items()) else link
 
 
 def _tied_neighbours(steps, grids, lam, values) -> np.ndarray:

@@ -448,16 +448,10 @@ def _refuse_unknown_key(model, key: str, name: str, number: float, where: str, s
     refusal of the key itself at ``number`` (a misspelt ``inner_diamter``, with its suggestion;
     a material's ``shear_modulus`` beside its ``poisson_ratio``) is said now, not by every
     variant failing."""
-    import warnings
-
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            model.variant([(key, "value", number)])
-    except InputError as error:
-        if f"] {name} = " in str(error):
-            raise StudyError(source, where, key, f"a dotted key of the model (the file leaves {name!r} out and "
-                             f"the model does not take it at {number:.6g}: {error})") from None
+    error = _variant_refusal(model, [(key, "value", number)])
+    if error is not None and f"] {name} = " in str(error):
+        raise StudyError(source, where, key, f"a dotted key of the model (the file leaves {name!r} out and "
+                         f"the model does not take it at {number:.6g}: {error})")
 
 
 def _grid_ends(grid, item, grid_key) -> list:
@@ -524,12 +518,17 @@ def _check_range(parameter, model, ends, where, source):
 
 def _refusal(model, parameter, number):
     """The model's error for the base model with the parameter at ``number``, or None."""
+    return _variant_refusal(model, [(key, parameter.apply, number) for key in parameter.keys])
+
+
+def _variant_refusal(model, changes):
+    """The model's error for its variant with ``changes`` (:meth:`Model.variant`), or None."""
     import warnings
 
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            model.variant([(key, parameter.apply, number) for key in parameter.keys])
+            model.variant(changes)
     except InputError as error:
         return error
     return None

@@ -529,7 +529,9 @@ def _canonical_columns(table, path):
 
 
 def _names(table, name) -> np.ndarray:
-    return np.array([str(v) for v in table[name]], dtype=str)
+    """A column's channel names, an object array of the cells' own strings (a numpy string array
+    took the longest name's 4 bytes a character for every line)."""
+    return np.array([str(v) for v in table[name]], dtype=object)
 
 
 def _csv_quantity(table, path):

@@ -186,5 +186,8 @@ def memory_problem(needed: float, what: str, advice: str) -> str:
     available = available_memory()
     if needed <= available:
         return ""
-    return (f"{what} needs about {needed / 2**30:.1f} GiB of memory, {available / 2**30:.1f} GiB is available: "
-            f"{advice}; {MEMORY_ENVIRONMENT} sets the memory to count on")
+    digits = 1       # more where one decimal shows the two alike ("needs about 0.3 GiB, 0.3 GiB is available")
+    while digits < 6 and round(needed / 2**30, digits) <= round(available / 2**30, digits):
+        digits += 1
+    return (f"{what} needs about {needed / 2**30:.{digits}f} GiB of memory, {available / 2**30:.{digits}f} GiB is "
+            f"available: {advice}; {MEMORY_ENVIRONMENT} sets the memory to count on")

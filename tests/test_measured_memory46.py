@@ -4,6 +4,7 @@ text, and one whose table would not fit in the memory available is refused befor
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -67,3 +68,28 @@ def test_a_table_after_more_comment_lines_than_the_head_looked_at(tmp_path):
     table, decimal = read_csv_table((comments + "a;b\n1,5;2\n3;4\n").encode(), tmp_path / "t.csv", "as CSV")
     assert list(table.columns) == ["a", "b"] and decimal == ","
     assert table["a"].tolist() == ["1,5", "3"] and list(table.attrs["lines"]) == [452, 453]
+
+
+@pytest.mark.parametrize("binary, words, per_byte", [(False, "UFF 58 ASCII", 7), (True, "UFF 58b", 17)])
+def test_a_universal_file_beyond_the_memory_is_refused_before_it_is_read(tmp_path, monkeypatch, binary, words,
+                                                                         per_byte):
+    """A Universal File's FRFs take 5-6 (ASCII) and 13-16 (binary) times the file's size
+    (benchmarks/bench_measured_memory.py): the estimate, 7 and 17 times, against the memory."""
+    from rotordyn_modal.io.measured import default_mapping
+    from rotordyn_modal.io.uff import write_uff58
+
+    model = rdm.load_model(EXAMPLE)
+    path = tmp_path / "m.uff"
+    write_uff58([rdm.frf(model, 0.0, np.linspace(1.0, 40.0, 200))], path, default_mapping(model), binary=binary)
+    size = path.stat().st_size
+    monkeypatch.setenv("ROTORDYN_MODAL_MEMORY_GB", f"{0.99 * per_byte * size / 2**30:.12f}")
+    with pytest.raises(InputError) as refused:
+        read_measured(path, model)
+    said = str(refused.value)
+    assert said.startswith(f"{path}: reading this measured-data file ({size / 1e6:.3g} MB, {words}) needs about ")
+    needed, available = (float(x) for x in re.findall(r"([0-9.]+) GiB", said))
+    assert needed != available                       # as many digits as tell them apart
+    assert needed == pytest.approx(per_byte * size / 2**30, rel=1e-2)
+    monkeypatch.setenv("ROTORDYN_MODAL_MEMORY_GB", f"{1.01 * per_byte * size / 2**30:.12f}")
+    (back,) = read_measured(path, model)
+    assert back.H.shape == (2, 2, 200)

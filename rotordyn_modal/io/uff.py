@@ -322,6 +322,7 @@ def read_uff58(path, model, mapping):
     -------
     list of FRFResult
     """
+    _refuse_beyond_memory(path)
     sets, units = _read_sets(path)
     frfs = [s for s in sets if _function_type(s) == _FRF]
     if not frfs:
@@ -363,6 +364,33 @@ def read_uff58(path, model, mapping):
 
         warnings.warn(_skipped_frf_line(path, len(frfs), bool(coherence), skipped), stacklevel=3)
     return result
+
+
+#: memory reading a Universal File's FRFs takes per byte of the file, ASCII and binary (58b) [bytes]:
+#: pyuff's sets and the lines made of them (``benchmarks/bench_measured_memory.py``: 5.3-6.3 and
+#: 13.5-16 times the file at 1.2 and 0.6 million lines)
+_UFF_BYTES_PER_BYTE = {"ascii": 7, "binary": 17}
+
+
+def _refuse_beyond_memory(path) -> None:
+    """Refuse, before it is read, a Universal File whose FRFs would not fit in the memory
+    available (:func:`.._limits.memory_problem`; binary when its first 4 kB name a dataset 58b)."""
+    import os
+
+    from .._limits import memory_problem
+
+    try:
+        size = os.path.getsize(path)
+        with open(path, "rb") as handle:
+            binary = b"58b" in handle.read(4096).lower()
+    except OSError:           # said by the reader, in its own words
+        return
+    kind = "binary" if binary else "ascii"
+    problem = memory_problem(_UFF_BYTES_PER_BYTE[kind] * size, f"reading this measured-data file ({size / 1e6:.3g} MB, "
+                             f"{'UFF 58b' if binary else 'UFF 58 ASCII'})", "split it (a file per speed or per "
+                             "channel pair)")
+    if problem:
+        raise InputError(f"{path}: {problem}")
 
 
 def _repeated(name: str, count: int) -> np.ndarray:

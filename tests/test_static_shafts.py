@@ -371,6 +371,44 @@ def test_static_command_takes_a_force_at_a_station(tmp_path, examples_dir, capsy
         assert said in capsys.readouterr().err
 
 
+def test_a_moment_at_a_station_bends_the_shaft_as_the_closed_form():
+    """A moment M (about z, in the x-y plane) at axial_position a of a shaft on supports at 0 and
+    L: the supports carry +M/L and -M/L along y (statics); the bending moment jumps by M at the
+    station (M a / L on one side, M (a / L - 1) on the other, up to the sign convention). Without
+    a station the moment acts at the centre of mass, with one warning line."""
+    length, a, M = 1.0, 0.3, 40.0
+    model = _shaft(length, (0.0, length), gravity=(0.0, 0.0, 0.0), forces_at=(a,))
+    result = rdm.static(model, forces=[{"body": "s", "axial_position": a, "moment": [0.0, 0.0, M]}])
+    # about the first support: R_1 L (x^ cross y^ = z^) + M = 0, and R_0 + R_1 = 0
+    np.testing.assert_allclose(_bearing_forces(result)[:, 1], [M / length, -M / length], rtol=1e-9)
+    shaft = result.shafts["s"]
+    left, right = shaft.moment[_at(shaft, a, "left")], shaft.moment[_at(shaft, a, "right")]
+    np.testing.assert_allclose(sorted(np.abs([left[0], right[0]])), sorted([M * a / length, M * (1 - a / length)]),
+                               rtol=1e-9)
+    with pytest.warns(rdm.errors.ModelWarning, match=r"forces\[0\]: a moment on the flexible rotor s without its "
+                                                     r"station acts at its centre of mass, 0.5 m from the shaft's start"):
+        rdm.static(model, forces=[{"body": "s", "moment": [0.0, 0.0, M]}])
+
+
+def test_static_command_takes_a_moment_at_a_station(tmp_path, examples_dir, capsys):
+    """``--moment pump@0.03:0,50,0`` equals the moment at the 3-D point of that station; without
+    the station the warning names the option as typed."""
+    model = examples_dir / "flexible_pump_on_mounts.toml"
+    station = tmp_path / "station.csv"
+    assert main(["static", str(model), "--moment", "pump@0.03:0,50,0", "--out", str(station), "--quiet"]) == 0
+    assert capsys.readouterr().err == ""
+    at_point = rdm.static(rdm.load_model(model), forces=[{"body": "pump", "point": [-0.47, -0.12, 0.22],
+                                                            "moment": [0.0, 50.0, 0.0]}])
+    rows = pd.read_csv(station)
+    shaft_rows = rows[rows["table"] == "shaft"]
+    np.testing.assert_allclose(shaft_rows["Mbz_Nm"], at_point.shafts["pump"].moment[:, 1], rtol=1e-9, atol=1e-9)
+    assert main(["static", str(model), "--moment", "pump:0,50,0", "--quiet"]) == 0
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line.startswith("rotordyn-modal static: warning: --moment pump:0,50,0: a moment on the flexible rotor pump")
+    assert main(["static", str(model), "--moment", "pump@x:0,50,0", "--quiet"]) == 2
+    assert "AXIAL 'x': expected a number [m] from the shaft's start" in capsys.readouterr().err
+
+
 # -- the command line and the figure ----------------------------------------------------------------
 def test_static_command_lists_the_shaft_and_writes_its_rows_in_us_units(tmp_path, examples_dir, capsys):
     model = examples_dir / "flexible_pump_on_mounts.toml"

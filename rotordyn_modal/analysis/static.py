@@ -463,6 +463,7 @@ def _given_load(model, index: int, item, units="si") -> StaticLoad:
         point = _station_point(model, body, axial, point, name, units)
     if point is None:    # a moment alone: its point does not matter; shown at the body's centre
         point = model.reference_point if body is None else model.rotor(body).center_of_mass
+        _warn_moment_without_station(model, body, point, moment, name, units)
     vectors = [_vector3(value, f"{name} {key}") for key, value in
                (("point", point), ("force", force), ("moment", moment))]
     off = _off_shaft(model, body, vectors[0], units)
@@ -470,6 +471,22 @@ def _given_load(model, index: int, item, units="si") -> StaticLoad:
         raise InputError(f"{name} point = {_listed(vectors[0], units)}"
                          f"{'' if units == 'si' else ' ' + unit_label('length', units)}: expected a point along {off}")
     return StaticLoad("force", name, body, *vectors)
+
+
+def _warn_moment_without_station(model, body, point, moment, name: str, units="si") -> None:
+    """One warning line for a moment on a flexible rotor given without its station: a rigid body
+    takes a moment anywhere alike, a shaft bends (and twists) by where it acts, and it is taken at
+    the rotor's centre of mass (flexible_pump_on_mounts: the pump shaft's largest bending moment
+    under 50 N m is 28, 50 or 52 N m at its centre of mass, impeller or pulley)."""
+    shaft = None if body is None else model.rotor(body).flexible
+    if shaft is None or moment is None or not np.any(np.asarray(moment, dtype=float)):
+        return
+    length_unit = unit_label("length", units)
+    where = float(to_system(shaft.z_of(point), "length", units))
+    warnings.warn(ModelWarning(
+        f"{name}: a moment on the flexible rotor {visible(body)} without its station acts at its centre of mass, "
+        f"{where:.4g} {length_unit} from the shaft's start: where a moment acts changes how the shaft bends and "
+        f"twists; give its station (axial_position, or --moment ROTOR@AXIAL:MX,MY,MZ)"), stacklevel=4)
 
 
 def _station_point(model, body, axial, point, name: str, units="si") -> np.ndarray:

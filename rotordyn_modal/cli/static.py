@@ -4,6 +4,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from ..errors import InputError
@@ -45,7 +47,8 @@ with --units us: in, lbf, lbf in, and --transmitted-power in hp; the tables then
 columns named x_in, Fx_lbf, Mx_lbfin, ux_in; docs/units.md).
 On a flexible rotor --force ROTOR@AXIAL:FX,FY,FZ places the force at the station AXIAL from the
 shaft's start, as axial_position in the model file (the same as the point there on the axis).
-A moment acts on the body as a whole (--moment BODY:MX,MY,MZ). --transmitted-power W is the
+A moment acts on a rigid body as a whole (--moment BODY:MX,MY,MZ); on a flexible rotor at its
+station (--moment ROTOR@AXIAL:MX,MY,MZ; without one, at its centre of mass, with a warning). --transmitted-power W is the
 power every transmission carries from its driver to its driven rotor (negative: the other way);
 --transmitted-power DRIVER->DRIVEN=W names one transmission (repeat the option for others).
 
@@ -82,7 +85,8 @@ def add_arguments(parser):
                              "ROTOR@AXIAL:FX,FY,FZ at a flexible rotor's station AXIAL [m; in] from its "
                              "shaft's start (repeat for more)")
     parser.add_argument("--moment", action="append", metavar="BODY:MX,MY,MZ",
-                        help="a static moment [N m; lbf in] on the stator or a rotor (repeat for more)")
+                        help="a static moment [N m; lbf in] on the stator or a rotor, or ROTOR@AXIAL:MX,MY,MZ "
+                             "at a flexible rotor's station (repeat for more)")
     parser.add_argument("--allowable-stress", metavar="STRESS",
                         help="allowable von Mises stress [Pa; psi] of every flexible shaft (default: each "
                              "material's allowable_stress)")
@@ -101,10 +105,18 @@ def run(args) -> int:
         [_moment(text, args.units) for text in args.moment or ()]
     try:
         power = _power(args.transmitted_power, args.units, as_typed(args, "--transmitted-power"))
-        result = static(model, speed=speed, forces=forces, power=power, units=args.units,
-                        allowable_stress=_allowable(args.allowable_stress, args.units))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = static(model, speed=speed, forces=forces, power=power, units=args.units,
+                            allowable_stress=_allowable(args.allowable_stress, args.units))
     except InputError as error:
         raise InputError(_as_typed(str(error), args)) from None
+    for warning in caught:         # "forces[0]: a moment ..." said of the option typed, as refusals are
+        try:
+            said = warning.category(_as_typed(str(warning.message), args))
+        except Exception:          # a category made otherwise: its own message
+            said = warning.message
+        warnings.warn(said, stacklevel=2)
     table = _in_units(result.to_dataframe(), args.units)
     if args.out:
         write_table(table, args) if args.out == "-" else write_table(table, _quietly(args))
@@ -226,12 +238,7 @@ def _force(text: str, system: str = "si"):
     if not body and "@" in head:
         rotor, _, axial = head.rpartition("@")
         if rotor:
-            try:
-                axial = parse_number(axial, "--force")
-            except InputError:
-                raise InputError(f"--force {text!r}: AXIAL {axial!r}: expected a number [{unit_label('length', system)}] "
-                                 "from the shaft's start") from None
-            return {"body": rotor, "axial_position": float(from_system(axial, "length", system)),
+            return {"body": rotor, "axial_position": _axial(axial, "--force", text, system),
                     "force": list(from_system(_vector(rest, "--force", text), "force", system))}
     if not body:
         length, force = unit_label("length", system), unit_label("force", system)
@@ -242,14 +249,30 @@ def _force(text: str, system: str = "si"):
         list(from_system(_vector(rest, "--force", text), "force", system))
 
 
-def _moment(text: str, system: str = "si") -> tuple:
-    """``BODY:MX,MY,MZ`` (in ``system``'s units) -> ``(body, point, zero force, moment [N m])``; a
-    moment's point does not matter."""
+def _moment(text: str, system: str = "si") -> dict:
+    """``BODY:MX,MY,MZ`` (in ``system``'s units) -> ``{"body", "moment" [N m]}`` (a rigid body's
+    moment acts anywhere alike), or ``ROTOR@AXIAL:MX,MY,MZ`` -> with ``"axial_position"`` [m]: a
+    flexible rotor's station, where it bends and twists the shaft."""
     body, _, rest = text.rpartition(":")
     if not body:
         raise InputError(f"--moment {text!r}: expected BODY:MX,MY,MZ (body 'stator' or a rotor's name, a moment "
-                         f"[{unit_label('moment', system)}] in model axes)")
-    return {"body": body, "moment": list(from_system(_vector(rest, "--moment", text), "moment", system))}
+                         f"[{unit_label('moment', system)}] in model axes) or ROTOR@AXIAL:MX,MY,MZ (a flexible "
+                         f"rotor's station, AXIAL [{unit_label('length', system)}] from its shaft's start)")
+    load = {"body": body, "moment": list(from_system(_vector(rest, "--moment", text), "moment", system))}
+    rotor, _, axial = body.rpartition("@")
+    if rotor:
+        load.update(body=rotor, axial_position=_axial(axial, "--moment", text, system))
+    return load
+
+
+def _axial(text: str, option: str, whole: str, system: str) -> float:
+    """``AXIAL`` of ``ROTOR@AXIAL`` [m; in in US units] in m."""
+    try:
+        value = parse_number(text, option)
+    except InputError:
+        raise InputError(f"{option} {whole!r}: AXIAL {text!r}: expected a number [{unit_label('length', system)}] "
+                         "from the shaft's start") from None
+    return float(from_system(value, "length", system))
 
 
 def _power(values, system: str = "si", option: str = "--transmitted-power"):

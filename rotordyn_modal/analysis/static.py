@@ -360,7 +360,8 @@ def static(model, speed=None, forces=None, torques=None, power=None, units: str 
         ``force`` (3,) [N], ``moment`` (3,) [N m], model axes (a mapping may leave out
         ``force``, ``moment``, and ``point`` when it gives a moment alone). On a flexible rotor a
         mapping may give ``axial_position`` [m] from the shaft's start in place of ``point``, as
-        the model file places its stations.
+        the model file places its stations; a moment on a flexible rotor given without either acts
+        at its centre of mass, with a ``ModelWarning`` (the shaft bends by where it acts).
     torques : float or mapping, optional
         Torque [N m] each transmission's driver passes on (positive: the driver drives the
         driven rotor), by ``"DRIVER->DRIVEN"``; one number: every transmission.

@@ -409,6 +409,26 @@ def test_static_command_takes_a_moment_at_a_station(tmp_path, examples_dir, caps
     assert "AXIAL 'x': expected a number [m] from the shaft's start" in capsys.readouterr().err
 
 
+def test_a_rotor_named_with_an_at_sign_takes_a_moment_as_a_whole(tmp_path, examples_dir, capsys):
+    """``--moment motor@1:0,5,0`` where the rotor is called 'motor@1' is a moment on that rotor, not
+    one at a station 1 m along a rotor 'motor' (none): the same as the Python call."""
+    import tomllib
+
+    import tomli_w
+
+    data = tomllib.loads((examples_dir / "motor_pump_on_mounts.toml").read_text())
+    renamed = tomli_w.dumps(data).replace('"motor"', '"motor@1"')
+    path = tmp_path / "at.toml"
+    path.write_text(renamed, encoding="utf-8")
+    out = tmp_path / "at.csv"
+    assert main(["static", str(path), "--moment", "motor@1:0,5,0", "--out", str(out), "--quiet"]) == 0, \
+        capsys.readouterr().err
+    expected = rdm.static(rdm.load_model(path), forces=[{"body": "motor@1", "moment": [0.0, 5.0, 0.0]}])
+    written = pd.read_csv(out)
+    rows = written[written["table"] == "displacement"]
+    np.testing.assert_allclose(rows["uz_m"], expected.displacements()["uz_m"], rtol=1e-12, atol=1e-18)
+
+
 # -- the command line and the figure ----------------------------------------------------------------
 def test_static_command_lists_the_shaft_and_writes_its_rows_in_us_units(tmp_path, examples_dir, capsys):
     model = examples_dir / "flexible_pump_on_mounts.toml"

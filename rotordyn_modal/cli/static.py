@@ -101,8 +101,9 @@ def run(args) -> int:
         raise InputError(f"--plot {args.plot}: the model has no flexible rotor (one with a shaft): the figure "
                          "draws the sag, shear force and bending moment along flexible shafts")
     speed = None if args.speed is None else speed_value(args.speed, args.speed_unit, "--speed")
+    bodies = {"stator"} | {rotor.name for rotor in model.rotors}
     forces = [_force(text, args.units) for text in args.force or ()] + \
-        [_moment(text, args.units) for text in args.moment or ()]
+        [_moment(text, args.units, bodies) for text in args.moment or ()]
     try:
         power = _power(args.transmitted_power, args.units, as_typed(args, "--transmitted-power"))
         with warnings.catch_warnings(record=True) as caught:
@@ -249,10 +250,11 @@ def _force(text: str, system: str = "si"):
         list(from_system(_vector(rest, "--force", text), "force", system))
 
 
-def _moment(text: str, system: str = "si") -> dict:
+def _moment(text: str, system: str = "si", bodies=()) -> dict:
     """``BODY:MX,MY,MZ`` (in ``system``'s units) -> ``{"body", "moment" [N m]}`` (a rigid body's
     moment acts anywhere alike), or ``ROTOR@AXIAL:MX,MY,MZ`` -> with ``"axial_position"`` [m]: a
-    flexible rotor's station, where it bends and twists the shaft."""
+    flexible rotor's station, where it bends and twists the shaft (``bodies``: the model's names,
+    one of which, holding an '@', is a body, not a station)."""
     body, _, rest = text.rpartition(":")
     if not body:
         raise InputError(f"--moment {text!r}: expected BODY:MX,MY,MZ (body 'stator' or a rotor's name, a moment "
@@ -260,7 +262,7 @@ def _moment(text: str, system: str = "si") -> dict:
                          f"rotor's station, AXIAL [{unit_label('length', system)}] from its shaft's start)")
     load = {"body": body, "moment": list(from_system(_vector(rest, "--moment", text), "moment", system))}
     rotor, _, axial = body.rpartition("@")
-    if rotor:
+    if rotor and body not in bodies:
         load.update(body=rotor, axial_position=_axial(axial, "--moment", text, system))
     return load
 

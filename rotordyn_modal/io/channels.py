@@ -267,15 +267,11 @@ def assemble(records, model, quantity, source) -> list[FRFResult]:
 
 
 def _codes(names):
-    """``(codes (n,) int, names (k,) list of str)``: each line's channel name as its place among
-    the distinct names (``str`` of each, as the names were read)."""
+    """``(codes (n,) int, names (k,) list of str)``: each line's channel name (an object array, as
+    both readers give them) as its place among the distinct names (``str`` of each, as read)."""
     import pandas as pd
 
-    names = np.asarray(names)
-    if names.dtype.kind == "U":          # numpy strings: their own unique, no Python string per line
-        found, codes = np.unique(names, return_inverse=True)
-        return codes.reshape(-1), [str(name) for name in found]
-    codes, found = pd.factorize(names.astype(object, copy=False), use_na_sentinel=False)
+    codes, found = pd.factorize(np.asarray(names, dtype=object), use_na_sentinel=False)
     return codes, [str(name) for name in found]
 
 

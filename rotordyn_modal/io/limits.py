@@ -23,7 +23,7 @@ from .._limits import environment_number
 from ..errors import InputError
 
 __all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "PIPE_WAIT_S", "check_size", "limit_bytes", "read_limited",
-           "input_path", "refuse_unsized", "refuse_compressed", "unreadable", "is_fifo", "pipe_copied", "reads_pipes",
+           "input_path", "refuse_beyond_memory", "refuse_unsized", "refuse_compressed", "unreadable", "is_fifo", "pipe_copied", "reads_pipes",
            "named_as", "unreachable_name", "shown_name"]
 
 #: default limit of model and study files [MB]; environment: ROTORDYN_MODAL_MAX_MODEL_MB
@@ -129,6 +129,17 @@ def check_size(path, kind: str, what: str) -> None:
     if size > limit:
         raise InputError(f"{path}: a {what} of {size / 2**20:.1f} MB is larger than the limit of "
                          f"{limit / 2**20:g} MB and is not read (set {variable} to a number of MB to allow it)")
+
+
+def refuse_beyond_memory(path, needed: float, described: str, advice: str) -> None:
+    """Refuse, before it is read, a measured-data file whose reading needs about ``needed`` bytes
+    where they do not fit (:func:`.._limits.memory_problem`): ``path: reading this measured-data
+    file (DESCRIBED) needs about ...: ADVICE``."""
+    from .._limits import memory_problem
+
+    problem = memory_problem(needed, f"reading this measured-data file ({described})", advice)
+    if problem:
+        raise InputError(f"{path}: {problem}")
 
 
 def refuse_unsized(path, what: str) -> None:

@@ -389,15 +389,12 @@ def _refuse_beyond_memory(data: bytes, path) -> None:
     """Refuse, before it is parsed, a CSV file whose table would not fit in the memory available
     (:func:`.._limits.memory_problem`): a 512 MB file, within the size limit, would take about 4 GB
     (in proportion to the 41.6 MB file's 335 MB)."""
-    from .._limits import memory_problem
+    from .limits import refuse_beyond_memory
 
     cells = data.count(b",") + data.count(b";") + data.count(b"\t") + data.count(b"\n") + 1
-    needed = _BYTES_PER_BYTE * len(data) + _BYTES_PER_CELL * cells
-    problem = memory_problem(needed, f"reading this measured-data file ({len(data) / 1e6:.3g} MB, about "
-                             f"{cells:,} cells)", "split it (a file per speed or per channel pair), or write it "
-                             "as UFF 58b (binary)")
-    if problem:
-        raise InputError(f"{path}: {problem}")
+    refuse_beyond_memory(path, _BYTES_PER_BYTE * len(data) + _BYTES_PER_CELL * cells,
+                         f"{len(data) / 1e6:.3g} MB, about {cells:,} cells",
+                         "split it (a file per speed or per channel pair), or write it as UFF 58b (binary)")
 
 
 #: a CSV file over this many bytes has its header looked at before the whole table is read [bytes]

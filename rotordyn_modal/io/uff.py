@@ -377,7 +377,7 @@ def _refuse_beyond_memory(path) -> None:
     available (:func:`.._limits.memory_problem`; binary when its first 4 kB name a dataset 58b)."""
     import os
 
-    from .._limits import memory_problem
+    from .limits import refuse_beyond_memory
 
     try:
         size = os.path.getsize(path)
@@ -385,12 +385,9 @@ def _refuse_beyond_memory(path) -> None:
             binary = b"58b" in handle.read(4096).lower()
     except OSError:           # said by the reader, in its own words
         return
-    kind = "binary" if binary else "ascii"
-    problem = memory_problem(_UFF_BYTES_PER_BYTE[kind] * size, f"reading this measured-data file ({size / 1e6:.3g} MB, "
-                             f"{'UFF 58b' if binary else 'UFF 58 ASCII'})", "split it (a file per speed or per "
-                             "channel pair)")
-    if problem:
-        raise InputError(f"{path}: {problem}")
+    refuse_beyond_memory(path, _UFF_BYTES_PER_BYTE["binary" if binary else "ascii"] * size,
+                         f"{size / 1e6:.3g} MB, {'UFF 58b' if binary else 'UFF 58 ASCII'}",
+                         "split it (a file per speed or per channel pair)")
 
 
 def _repeated(name: str, count: int) -> np.ndarray:

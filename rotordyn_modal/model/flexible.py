@@ -30,7 +30,7 @@ from .geometry import shift_matrices, transverse_axes
 
 __all__ = ["Material", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
            "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
-           "STATION_TOLERANCE", "MERGE_FRACTION", "short_runs", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
+           "STATION_TOLERANCE", "MERGE_FRACTION", "short_runs", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies", "held_modes"]
 
 #: [m]: a station closer than this to a node is at that node; a point this far off the shaft's
 #: axis or beyond its ends (plus the same fraction of the shaft's length) is off the shaft
@@ -1064,14 +1064,52 @@ def _bending_dense(mass, shaft_k, supported_k):
 
     free = scipy.linalg.eigh(shaft_k, mass, eigvals_only=True)
     values, vectors = scipy.linalg.eigh(supported_k, mass)
-    return (_hz(free[4]),) + _supported(values, vectors, shaft_k, values[-1])
+    return (_hz(free[4]),) + _supported(values, vectors, shaft_k, supported_k)
 
 
-def _supported(values, vectors, shaft_k, largest):
+def held_modes(values, vectors, stiffness, shift=0.0):
+    """Which undamped modes a stiffness holds: not a rigid-body motion it leaves free.
+
+    A mode is free when its eigenvalue ``omega^2 = phi^T K phi`` (``phi`` mass-normalised) lies
+    within the rounding of that product and of the solver's shift,
+    :data:`rotordyn_modal.analysis.modal.ENERGY_ROUND_OFF` ``eps (|phi|^T |K| |phi| + |shift|)``
+    (the rule that sets a mode's strain energy in a part to none; a shift-invert solve about
+    ``shift`` returns ``1/theta + shift``, rounded to ``eps |shift|``: a body no spring touches
+    has ``|K| phi = 0`` and its zero comes back as ``1e-14`` from a shift of ``-5``). The rule is
+    the mode's own: a bound set from the highest mode instead (``1e-9`` of it, before) took a
+    pinned shaft's first bending mode for a free motion where a fine mesh or very stiff bearings
+    raise the highest mode (a 2 m, 20 mm shaft of 500 elements on 1e8 N/m bearings: 9.9 Hz,
+    ``omega^2 = 3.9e3`` against ``1e-9`` of ``5e12``; its rounding is ``1e-4``).
+
+    Parameters
+    ----------
+    values : ndarray, shape (k,) [rad^2/s^2]
+        Eigenvalues ``omega^2`` of ``K phi = omega^2 M phi``.
+    vectors : ndarray, shape (n, k)
+        Their shapes, mass-normalised (``phi^T M phi = 1``, as ``eigh`` and ``eigsh`` give them).
+    stiffness : ndarray or scipy.sparse matrix, shape (n, n) [N/m, N m/rad]
+        The symmetric stiffness ``K``.
+    shift : float [rad^2/s^2]
+        The shift of a shift-invert solve that found them (0: a direct solve, ``eigh``).
+
+    Returns
+    -------
+    ndarray of bool, shape (k,)
+    """
+    from ..analysis.modal import ENERGY_ROUND_OFF
+
+    size = abs(stiffness) if hasattr(stiffness, "multiply") else np.abs(stiffness)
+    rounding = np.einsum("im,im->m", np.abs(vectors), size @ np.abs(vectors)) + abs(shift)
+    return values > ENERGY_ROUND_OFF * np.finfo(float).eps * rounding
+
+
+def _supported(values, vectors, shaft_k, supported_k, shift=0.0):
     """The lowest mode (frequency [Hz], share of strain energy in the shaft) and the lowest mostly
-    bending (or nan) of modes ``values`` (k,) ascending, ``vectors`` (4 N, k); ``largest`` the scale
-    of the eigenvalues below which a value counts as a rigid-body motion (the highest of all)."""
-    held = values > 1e-9 * largest             # not a rigid-body motion the supports leave free
+    bending (or nan) of modes ``values`` (k,) ascending, ``vectors`` (4 N, k) mass-normalised, of
+    ``supported_k`` (the shaft's and the supports' stiffness; ``shift`` that of a shift-invert
+    solve); a rigid-body motion the supports leave free (:func:`held_modes`) counts as
+    frequency 0."""
+    held = held_modes(values, vectors, supported_k, shift)
     values = np.where(held, values, 0.0)
     energy = np.einsum("im,im->m", vectors, shaft_k @ vectors)
     share = np.where(held, energy / np.where(held, values, 1.0), 0.0)
@@ -1104,7 +1142,7 @@ def _bending_sparse(mass, shaft_k, supported_k):
     count = FIRST_BENDING
     while True:
         values, vectors = lowest(supported_k, min(count, mass.shape[0] - 2))
-        (first, share), bending = _supported(values, vectors, shaft_k, largest)
+        (first, share), bending = _supported(values, vectors, shaft_k, supported_k, shift)
         if bending == bending or count >= MOST_BENDING:
             return _hz(free[4]), (first, share), bending
         count *= 2

@@ -30,7 +30,7 @@ from .geometry import shift_matrices, transverse_axes
 
 __all__ = ["Material", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
            "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
-           "STATION_TOLERANCE", "MERGE_FRACTION", "short_runs", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies", "held_modes"]
+           "STATION_TOLERANCE", "MERGE_FRACTION", "short_runs", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies", "held_modes", "off_node"]
 
 #: [m]: a station closer than this to a node is at that node; a point this far off the shaft's
 #: axis or beyond its ends (plus the same fraction of the shaft's length) is off the shaft
@@ -1065,6 +1065,32 @@ def _bending_dense(mass, shaft_k, supported_k):
     free = scipy.linalg.eigh(shaft_k, mass, eigvals_only=True)
     values, vectors = scipy.linalg.eigh(supported_k, mass)
     return (_hz(free[4]),) + _supported(values, vectors, shaft_k, supported_k)
+
+
+def off_node(shaft, z: float):
+    """Where a load or station at ``z`` [m] from a shaft's start stands against its mesh: ``(node,
+    offset)``, the nearest node and ``z`` less that node's place [m], or None where the point
+    shares the node as the mesh's own stations do (within :data:`MERGE_FRACTION` of the element
+    it lies in, and at least :data:`STATION_TOLERANCE`): a point a node stands for.
+
+    Parameters
+    ----------
+    shaft : Shaft
+        With its mesh.
+    z : float [m]
+
+    Returns
+    -------
+    (int, float) or None
+    """
+    nodes = np.asarray(shaft.mesh.z, dtype=float)
+    node = shaft.mesh.node(z)
+    offset = float(z) - float(nodes[node])
+    inside = int(np.clip(np.searchsorted(nodes, z) - 1, 0, len(nodes) - 2))
+    element = float(nodes[inside + 1] - nodes[inside])
+    if abs(offset) <= max(MERGE_FRACTION * element, STATION_TOLERANCE * (1.0 + shaft.length)):
+        return None
+    return node, offset
 
 
 def held_modes(values, vectors, stiffness, shift=0.0):

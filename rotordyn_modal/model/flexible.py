@@ -96,7 +96,8 @@ class Section:
 
 @dataclass(frozen=True)
 class Disk:
-    """A rigid disk at ``z`` [m] from the shaft's start; ``width`` [m] or None."""
+    """A rigid disk at ``z`` [m] from the shaft's start; ``width`` [m] or None; ``bore`` [m] its
+    ``inner_diameter`` where it is given by its geometry (None: by mass and inertias)."""
 
     name: str
     z: float
@@ -104,6 +105,7 @@ class Disk:
     polar_inertia: float
     diametral_inertia: float
     width: float | None = None
+    bore: float | None = None
 
 
 @dataclass(frozen=True)
@@ -324,7 +326,7 @@ def _disk(table: Table, index: int, known) -> Disk:
         density = _material(table, "material", known).density
         mass = density * math.pi / 4 * (outer ** 2 - inner ** 2) * width
         polar = mass / 8 * (outer ** 2 + inner ** 2)
-        return Disk(name, z, mass, polar, polar / 2 + mass * width ** 2 / 12, width)
+        return Disk(name, z, mass, polar, polar / 2 + mass * width ** 2 / 12, width, inner)
     mass = table.number("mass", required=True, positive=True)
     polar = table.number("polar_inertia", required=True, nonnegative=True)
     diametral = table.number("diametral_inertia", required=True, nonnegative=True)
@@ -625,7 +627,8 @@ def size_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     :data:`PLAUSIBLE_SHAFT_DIAMETER`, most likely a diameter in mm typed for m: the thickest
     named, with the count of the others."""
     lines = _length_lines(source, rotor, shaft) + _heavy_disk_lines(source, rotor, shaft) + \
-        _wide_disk_lines(source, rotor, shaft) + _overhanging_disk_lines(source, rotor, shaft)
+        _wide_disk_lines(source, rotor, shaft) + _overhanging_disk_lines(source, rotor, shaft) + \
+        _bored_disk_lines(source, rotor, shaft)
     thick = [(max(tube.outer), where) for i, section in enumerate(shaft.sections)
              for where, tube in ((f"shaft.{i}", section), *((f"shaft.{i}.layers.{k}", layer)
                                                           for k, layer in enumerate(section.layers)))
@@ -694,6 +697,44 @@ def _wide_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     return [f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] width = {disk.width:g}"
             f"{and_others(len(wide), 'disk')}: wider than the whole shaft it sits on ({shaft.length:g} m long); a "
             "width in mm typed for m? (model files are SI)"]
+
+
+def shaft_diameter_at(shaft: Shaft, z: float) -> float:
+    """The shaft's outer diameter [m] at ``z`` [m] from its start (linear along a tapered
+    section; the larger of two sections at their joint; the section's own outer tube, not its
+    layers)."""
+    ends = shaft.ends
+    found = [s.outer[0] + (s.outer[1] - s.outer[0]) * (min(max(z, a), b) - a) / (b - a)
+             for s, a, b in zip(shaft.sections, ends[:-1], ends[1:])
+             if a - STATION_TOLERANCE <= z <= b + STATION_TOLERANCE and b > a]
+    return float(max(found)) if found else 0.0
+
+
+def _bored_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
+    """One warning line for ``shaft``'s disks given by their geometry whose bore
+    (``inner_diameter``, default 0) is below the shaft's outer diameter at their station: the
+    disk's ring ``rho pi/4 (D^2 - d^2) w`` then holds the shaft inside it, which the shaft's own
+    elements carry already, so its mass is counted twice (a 0.3 m steel disk 0.05 m wide on a 0.05
+    m shaft, bore left at 0: 0.766 kg of its 27.6 kg, and the rotor 1.8 % heavier than it is). A
+    disk around a shaft has a bore at least the shaft's diameter (ROSS's ``i_d``, "the diameter of
+    the shaft on which the disk is mounted"). The one counting most named, with the count of the
+    others."""
+    found = []
+    for disk in shaft.disks:
+        if disk.bore is None or disk.width is None:
+            continue
+        diameter = shaft_diameter_at(shaft, disk.z)
+        if disk.bore < diameter * (1.0 - 1e-6):
+            found.append((disk, diameter))
+    if not found:
+        return []
+    disk, diameter = found[0]
+    outer_squared = 8 * disk.polar_inertia / disk.mass - disk.bore ** 2            # J_p = m (D^2 + d^2) / 8
+    twice = disk.mass * (diameter ** 2 - disk.bore ** 2) / (outer_squared - disk.bore ** 2)
+    return [f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] inner_diameter = {disk.bore:g}"
+            f"{and_others(len(found), 'disk')}: a bore below the shaft's outer diameter {diameter:g} m at its station: "
+            f"the disk's ring holds the shaft inside it, {twice:.3g} kg the shaft's elements carry already (counted "
+            f"twice); give the disk's bore, inner_diameter = {diameter:g} (a disk around the shaft)"]
 
 
 #: a disk may reach beyond a shaft's end by this share of its width (round-off of positions

@@ -187,9 +187,9 @@ def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=
     checked = (speed >= min_speed) & (speed <= (np.inf if top is None else top))
     planes = result.clearance_planes
     n_src = len(result.sources)
-    major = orbit_ellipses(planes, 1.0)[0] if planes is not None and planes.size else \
-        np.zeros((len(model.clearances), n_src, len(speed)))
     together = not result.case_rotors
+    major = _majors(planes, result, together) if planes is not None and planes.size else \
+        np.zeros((len(model.clearances), n_src, len(speed)))
     pkpk = 2.0 * (major.sum(axis=1, keepdims=True) if together else major)
     rotors = tuple(c.rotor for c in model.clearances)
     bottom = min_speed if min_operating is None else min_operating
@@ -203,6 +203,19 @@ def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=
                           radial_clearances=np.array([c.radial_clearance for c in model.clearances], dtype=float),
                           pkpk=pkpk, cases=("",) if together else tuple(result.sources), trip_speed=top,
                           scale=scale, scaling=scaling, peak_speeds=peak_speeds, peak_pkpk=peak_pkpk)
+
+
+def _majors(planes, result, together):
+    """The semi-major axes of the stations' orbits, shape (n_stations, n, K): one per source
+    (each API case alone), or with the model's own sources together one per frequency
+    (:func:`.unbalance_checks.same_frequency_groups`): sources of one frequency trace one orbit,
+    that of the sum of their in-plane amplitudes ``planes`` (n_stations, n_sources, K, 2)."""
+    if together:
+        from .unbalance_checks import same_frequency_groups
+
+        planes = np.stack([planes[:, group].sum(axis=1) for group in same_frequency_groups(result.frequencies_hz)],
+                          axis=1)
+    return orbit_ellipses(planes, 1.0)[0]
 
 
 def _cut_peaks(result, model, mcs, pkpk, together, top=None):
@@ -230,7 +243,7 @@ def _cut_peaks(result, model, mcs, pkpk, together, top=None):
         return None, None
 
     def solve(at, each):                                         # (n_stations, K): the semi-major axes
-        major = orbit_ellipses(result.station_planes(models[each], at), 1.0)[0]
+        major = _majors(result.station_planes(models[each], at), result, together)
         return (major.sum(axis=1) if together else major[:, 0]).astype(complex)
 
     curve = per_source(solve)
@@ -302,8 +315,9 @@ def _probe_ends(result, model, probes, n_cases, low, high):
     (``unbalance --speeds 180:13500:41 --operating-range 7000:9000`` sweeps neither 7,000 nor
     9,000 rpm, where compressor_rotor's probes read their largest: Amax 8 % low, unlike the
     report's sweep, which holds both), shape (n_cases,), -inf where none is read. The model's own
-    sources together add their amplitudes, as the swept ``probe_pkpk``."""
-    from .unbalance_checks import case_models
+    sources together add their amplitudes (those of one frequency as one harmonic), as the swept
+    ``probe_pkpk``."""
+    from .unbalance_checks import case_models, same_frequency_groups
 
     largest = np.full(n_cases, -np.inf)
     speed = np.abs(result.speeds)
@@ -317,9 +331,12 @@ def _probe_ends(result, model, probes, n_cases, low, high):
     at = np.repeat(sign * np.array(ends, dtype=float), len(probes) * n_src)
     o = np.tile(np.repeat(np.arange(len(probes)), n_src), len(ends))
     j = np.tile(np.arange(n_src), len(ends) * len(probes))
+    groups = same_frequency_groups(result.frequencies_hz) if together else [[0]]
     for c, each in enumerate(models):
-        zero_peak = np.abs(result.source_curve(each, list(probes), "displacement")(at, o, j if together else 0 * j))
-        largest[c] = 2.0 * zero_peak.reshape(len(ends) * len(probes), n_src).sum(axis=1).max()
+        values = result.source_curve(each, list(probes), "displacement")(at, o, j if together else 0 * j)
+        values = values.reshape(len(ends) * len(probes), n_src)
+        zero_peak = sum(np.abs(values[:, group].sum(axis=1)) for group in groups)
+        largest[c] = 2.0 * zero_peak.max()
     return largest
 
 

@@ -342,6 +342,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     stations = tuple(s if isinstance(s, Station) else Station.parse(s) for s in stations)
     shares = _shares(shares, len(stations))
     _check_stations(model, stations)
+    _warn_between_nodes(model, stations)
     steps = int(steps_per_qa)
     grid = qa * (np.arange(int(np.ceil(factor * steps - 1e-9)) + 1) / steps)    # grid[steps] is qa exactly
     form = speed_linear_form(model)
@@ -511,6 +512,35 @@ def _check_on_shaft(model, station):
                          f"rotor {station.rotor!r}'s shaft, OFFSET from {shown(-centre, bare=True)} to {shown(length - centre)} "
                          f"(the shaft runs 0 to {shown(length)} from its start, its centre of mass at {shown(centre)}; "
                          f"this OFFSET is at {shown(z)})")
+
+
+def _warn_between_nodes(model, stations) -> None:
+    """One warning line per station of a flexible rotor that is no node of its shaft's mesh: the
+    cross-coupling acts at the nearest node (:meth:`Dofs.local_relative_motion`), and the
+    results, labelled with the station, are those of that node. On examples/compressor_rotor.toml
+    (nodes at 0.57 and 0.66 m) Q0 stepped from 1.22372e6 to 1.23698e6 N/m between
+    ``compressor@0.0317`` and ``compressor@0.0318``, with no word said."""
+    import warnings
+
+    from ..errors import ModelWarning
+    from ..model.flexible import off_node
+
+    dofs = model.dofs
+    for station in stations:
+        shaft = dofs.shafts[dofs.rotors.index(station.rotor)] if dofs.shafts else None
+        z = None if shaft is None else float(shaft.z_of(station.point(model)))
+        where = None if shaft is None else off_node(shaft, z)
+        if where is None:
+            continue
+        node, offset = where
+        at = z - offset
+        shown = _lengths(station.units)
+        centre = float(shaft.z_of(model.rotor(station.rotor).center_of_mass))
+        warnings.warn(ModelWarning(
+            f"station {station.label(station.units)}: {shown(z)} from the shaft's start, between the nodes of rotor "
+            f"{station.rotor}'s mesh: the cross-coupling acts at its nearest node n{node} ({shown(at)} from the "
+            f"start, OFFSET {shown(at - centre)}); give the rotor a station there (a sensor at that point) for a "
+            "node at it"), stacklevel=3)
 
 
 def _lengths(units: str):

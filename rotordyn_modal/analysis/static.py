@@ -391,6 +391,8 @@ def static(model, speed=None, forces=None, torques=None, power=None, units: str 
         raise InputError(f"allowable_stress = {allowable_stress!r}: expected a stress > 0 [Pa]")
     loads = _loads(model, speed, forces, _torques(model, speed, torques, power), units)
     loads += _couplings(model, loads)
+    _warn_loads_between_nodes(model, loads, units, skip={f"forces[{i}]" for i, item in enumerate(forces or ())
+                                                         if _without_station(item)})
     load_vector = _load_vector(model, loads) + _fixed_journal_forces(model)
     stiffness, supports, q = _loaded_films(model, speed, load_vector)
     reactions = tuple(_reaction(model, speed, q, *support) for support in supports) + _axial_holds(model, loads)
@@ -488,6 +490,49 @@ def _warn_moment_without_station(model, body, point, moment, name: str, units="s
         f"{name}: a moment on the flexible rotor {visible(body)} without its station acts at its centre of mass, "
         f"{where:.4g} {length_unit} from the shaft's start: where a moment acts changes how the shaft bends and "
         f"twists; give its station (axial_position, or --moment ROTOR@AXIAL:MX,MY,MZ)"), stacklevel=4)
+
+
+def _without_station(item) -> bool:
+    """Whether an item of ``forces`` gives neither its point nor its axial position (a moment
+    alone, taken at the body's centre of mass: :func:`_warn_moment_without_station` says so)."""
+    if isinstance(item, dict):
+        return item.get("point") is None and item.get("axial_position") is None
+    return isinstance(item, (tuple, list)) and len(item) in (3, 4) and item[1] is None
+
+
+def _warn_loads_between_nodes(model, loads, units="si", skip=()) -> None:
+    """One warning line per load on a flexible shaft whose point is no node of its mesh.
+
+    Such a load acts at the nearest node, moved there rigidly with the moment of its offset
+    (:func:`_load_vector`): the displacements and reactions are those of the load where it is,
+    but between the node and the load's point the shear force and bending moment are not, and
+    the bending moment jumps at the node by the force times the offset. A force of 1000 N at
+    0.525 m on a 1 m shaft of 0.05 m elements on supports at its ends read its largest bending
+    moment 262.5 N m at 0.5 m; the beam's is ``P a b / L`` = 249.4 N m at 0.525 m (237.5 N m at
+    0.5 m), with no word said. A station there (a sensor on the rotor at that point) gives the
+    mesh a node at the load. ``skip``: the sources of loads already warned about (a moment given
+    without its station)."""
+    from ..model.flexible import off_node
+
+    length_unit = unit_label("length", units)
+    for x in loads:
+        shaft = None if x.body is None or x.kind not in ("force", "gear", "belt") or x.source in skip \
+            else model.rotor(x.body).flexible
+        if shaft is None or not (np.any(x.force) or np.any(x.moment)):
+            continue
+        z = float(shaft.z_of(x.point))
+        slack = STATION_TOLERANCE * (1.0 + shaft.length)
+        where = off_node(shaft, z) if -slack <= z <= shaft.length + slack else None   # beyond: _loads warns
+        if where is None:
+            continue
+        node, offset = where
+        shown = lambda value: f"{float(to_system(value, 'length', units)):.6g} {length_unit}"   # noqa: E731
+        warnings.warn(ModelWarning(
+            f"{x.source}: acts on rotor {visible(x.body)}'s shaft at {shown(z)} from its start, between the nodes "
+            f"of its mesh: it is applied at the nearest node n{node} ({shown(shaft.mesh.z[node])}) with the moment of "
+            f"its offset {shown(abs(offset))}, so the shaft's shear force and bending moment between the two are "
+            "not the load's; give the rotor a station there (a sensor at that point) for a node at the load"),
+            stacklevel=3)
 
 
 def _station_point(model, body, axial, point, name: str, units="si") -> np.ndarray:

@@ -3,12 +3,15 @@ and the API 617 / 684 unbalance cases of a model, and the API 684 separation mar
 from an operating range (``docs/standards.md``).
 
 - **Probes** (sensors with ``measure = "relative"``: shaft relative to the stator): the
-  peak-to-peak displacement ``sum_j 2 |x_j|`` over the sources (exact for one source; the
-  largest the sum of harmonics of different frequencies reaches) against
+  peak-to-peak displacement ``sum_j 2 |x_j|`` over the sources' frequencies (exact for one
+  frequency; the largest the sum of harmonics of different frequencies reaches; sources of one
+  frequency, rotors at one ``|speed ratio|``, are one harmonic: ``x_j`` the sum of their complex
+  amplitudes, :func:`same_frequency_groups`) against
   ``A1 = 25.4 um sqrt(12000 / N)``, at most 25.4 um, ``N`` [rpm] the maximum continuous speed
   of the probe's rotor (``|speed ratio|`` x the reference rotor's).
 - **Casing** (sensors on the stator): the RMS vibration velocity
-  ``sqrt(sum_j |v_j|^2 / 2)`` (exact for harmonics of different frequencies), ``|v_j|`` from
+  ``sqrt(sum_j |v_j|^2 / 2)`` over the sources' frequencies (exact: harmonics of different
+  frequencies; ``v_j`` of one frequency the sum of its sources' complex amplitudes), ``|v_j|`` from
   the displacement (x w_j), the velocity, or the acceleration (/ w_j), in the ISO 20816-3 zones
   of a machine group and support class.
 
@@ -210,10 +213,15 @@ def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=
     limits = np.array([np.nan if mcs is None else
                        float(api_probe_limit(abs(model.rotor(sensors[result.outputs[i]].rotor).speed_ratio)
                                              * mcs * 30 / np.pi)) for i in probes])
-    # the sources together (one signal), or each API case alone
+    # the sources together (one signal: those of one frequency as one harmonic), or each API case alone
     together = not result.case_rotors
-    combine = (lambda a: a.sum(axis=1, keepdims=True)) if together else (lambda a: a)
-    probe_pkpk = combine(2 * _derivative(result, probes, w, 0))
+    if together:
+        groups = same_frequency_groups(result.frequencies_hz)
+        probe_pkpk = 2 * _derivative(result, probes, w, 0, groups).sum(axis=1, keepdims=True)
+        casing_rms = np.sqrt((_derivative(result, casing, w, 1, groups) ** 2 / 2).sum(axis=1, keepdims=True))
+    else:
+        probe_pkpk = 2 * _derivative(result, probes, w, 0)
+        casing_rms = np.sqrt(_derivative(result, casing, w, 1) ** 2 / 2)
     peak_speeds, peak_pkpk = _probe_maxima(result, model, mcs, [result.outputs[i] for i in probes], probe_pkpk) \
         if refine else (None, None)
     return UnbalanceChecks(
@@ -222,7 +230,7 @@ def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=
         probe_pkpk=probe_pkpk,
         probe_limits=limits,
         casing=tuple(result.outputs[i] for i in casing),
-        casing_velocity_rms=np.sqrt(combine(_derivative(result, casing, w, 1) ** 2 / 2)),
+        casing_velocity_rms=casing_rms,
         zone_boundaries=bounds, iso_class="" if bounds is None else f"group {iso_group}, {iso_support}",
         cases=("",) if together else tuple(result.sources), iso_checked=iso_checked, iso_span=span,
         min_speed=float(min_speed), probe_peak_speeds=peak_speeds, probe_peak_pkpk=peak_pkpk)
@@ -243,12 +251,13 @@ def _probe_maxima(result, model, mcs, names, pkpk):
     if models is None:
         return None, None
     bases = [result.source_curve(each, list(names), "displacement") for each in models]
-    together, n_src = not result.case_rotors, len(result.sources)
+    together = not result.case_rotors
+    groups = same_frequency_groups(result.frequencies_hz) if together else None
 
     def curve(s, o, j):                                          # (K,): the 0-peak displacement
         s, o, j = np.asarray(s, dtype=float), np.asarray(o, dtype=int), np.asarray(j, dtype=int)
-        if together:
-            return sum(np.abs(bases[0](s, o, np.full(o.shape, k))) for k in range(n_src)) + 0j
+        if together:                                             # one harmonic per frequency
+            return sum(np.abs(sum(bases[0](s, o, np.full(o.shape, k)) for k in group)) for group in groups) + 0j
         out = np.empty(s.shape, dtype=complex)
         for each in np.unique(j):
             mine = np.flatnonzero(j == each)
@@ -362,10 +371,46 @@ AF_UNKNOWN = ("AF unknown: the amplitude does not fall to peak/sqrt(2) on both s
               f"({largest_margins_text(' the range')}), else not evaluated")
 
 
-def _derivative(result, rows, w, order):
+def same_frequency_groups(frequencies_hz) -> list:
+    """The sources of an unbalance response grouped by frequency: those whose frequency is the
+    same at every speed (rotors at one ``|speed ratio|``: a belt or gear of ratio 1, a direct
+    coupling) put one harmonic on a sensor, the sum of their complex amplitudes.
+
+    Parameters
+    ----------
+    frequencies_hz : ndarray, shape (n_sources, N) [Hz]
+        Each source's frequency at each speed (``UnbalanceResult.frequencies_hz``).
+
+    Returns
+    -------
+    list of list of int
+        The sources' indices, one list per frequency, in the order of their first source; equal
+        within ``1e-12`` relative (a ratio reached through two transmissions may differ in its
+        last bits).
+    """
+    f = np.asarray(frequencies_hz, dtype=float)
+    groups = []
+    for j in range(f.shape[0]):
+        for group in groups:
+            if np.allclose(f[j], f[group[0]], rtol=1e-12, atol=0.0):
+                group.append(j)
+                break
+        else:
+            groups.append([j])
+    return groups
+
+
+def _derivative(result, rows, w, order, groups=None):
     """0-peak amplitude of derivative ``order`` (0 displacement, 1 velocity) of the rows'
-    response, shape (n_rows, n_sources, N); NaN where the frequency is 0 and must divide."""
+    response, shape (n_rows, n_sources, N); NaN where the frequency is 0 and must divide. With
+    ``groups`` (:func:`same_frequency_groups`), one harmonic per group, shape (n_rows, n_groups,
+    N): the modulus of the sum of its sources' complex amplitudes ``a e^{i phase}`` (one frequency:
+    one time signal ``Re(sum_j X_j e^{i w t})``, docs/model-file.md "Unbalance phase reference")."""
     amplitude = result.amplitude[rows]
+    if groups is not None:
+        phasor = amplitude * np.exp(1j * np.deg2rad(result.phase_deg[rows]))
+        amplitude = np.stack([np.abs(phasor[:, group].sum(axis=1)) for group in groups], axis=1)
+        w = w[[group[0] for group in groups]]
     power = order - _ORDER[result.quantity]
     if power == 0:
         return amplitude

@@ -108,21 +108,24 @@ def _dense_rank(K) -> int:
 def _sparse_rank(model, K) -> int:
     """The rank of a large model's stiffness: ``n`` less the zero eigenvalues among the 12 lowest
     of its symmetric part against the mass (shift-invert Lanczos just below zero, as
-    ``model.flexible.bending_frequencies``); zero: below ``1e-9`` of the largest diagonal ratio
-    ``K_ii / M_ii``, the scale of the highest mode."""
+    ``model.flexible.bending_frequencies``); zero: within the rounding of the mode's own
+    ``phi^T K phi`` (``model.flexible.held_modes``; ``1e-9`` of the largest diagonal ratio
+    ``K_ii / M_ii`` before, which counted a fine mesh's first bending modes as free)."""
     import scipy.sparse
     import scipy.sparse.linalg
 
     from .._blas import seeded_start
     from ..assembly import is_large, mass_matrix, sparse_constant_matrices
+    from ..model.flexible import held_modes
 
     stiffness = scipy.sparse.csc_matrix(0.5 * (K + K.T))
     mass = scipy.sparse.csc_matrix(sparse_constant_matrices(model).M if is_large(model) else mass_matrix(model))
     diagonal = mass.diagonal()
     largest = float(np.max(np.abs(stiffness.diagonal()) / np.where(diagonal > 0, diagonal, np.inf)))
-    values = scipy.sparse.linalg.eigsh(stiffness, k=min(12, K.shape[0] - 2), M=mass, sigma=-1e-12 * largest,
-                                       which="LM", return_eigenvectors=False, v0=seeded_start(K.shape[0]))
-    return K.shape[0] - int(np.count_nonzero(values <= 1e-9 * largest))
+    shift = -1e-12 * largest
+    values, vectors = scipy.sparse.linalg.eigsh(stiffness, k=min(12, K.shape[0] - 2), M=mass,
+                                                sigma=shift, which="LM", v0=seeded_start(K.shape[0]))
+    return K.shape[0] - int(np.count_nonzero(~held_modes(values, vectors, stiffness, shift)))
 
 
 class _Units:

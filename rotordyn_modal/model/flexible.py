@@ -30,7 +30,7 @@ from .geometry import shift_matrices, transverse_axes
 
 __all__ = ["Material", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
            "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
-           "STATION_TOLERANCE", "MERGE_FRACTION", "short_runs", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
+           "STATION_TOLERANCE", "MERGE_FRACTION", "short_runs", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies", "held_modes", "off_node"]
 
 #: [m]: a station closer than this to a node is at that node; a point this far off the shaft's
 #: axis or beyond its ends (plus the same fraction of the shaft's length) is off the shaft
@@ -96,7 +96,8 @@ class Section:
 
 @dataclass(frozen=True)
 class Disk:
-    """A rigid disk at ``z`` [m] from the shaft's start; ``width`` [m] or None."""
+    """A rigid disk at ``z`` [m] from the shaft's start; ``width`` [m] or None; ``bore`` [m] its
+    ``inner_diameter`` where it is given by its geometry (None: by mass and inertias)."""
 
     name: str
     z: float
@@ -104,6 +105,7 @@ class Disk:
     polar_inertia: float
     diametral_inertia: float
     width: float | None = None
+    bore: float | None = None
 
 
 @dataclass(frozen=True)
@@ -324,7 +326,7 @@ def _disk(table: Table, index: int, known) -> Disk:
         density = _material(table, "material", known).density
         mass = density * math.pi / 4 * (outer ** 2 - inner ** 2) * width
         polar = mass / 8 * (outer ** 2 + inner ** 2)
-        return Disk(name, z, mass, polar, polar / 2 + mass * width ** 2 / 12, width)
+        return Disk(name, z, mass, polar, polar / 2 + mass * width ** 2 / 12, width, inner)
     mass = table.number("mass", required=True, positive=True)
     polar = table.number("polar_inertia", required=True, nonnegative=True)
     diametral = table.number("diametral_inertia", required=True, nonnegative=True)
@@ -625,7 +627,8 @@ def size_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     :data:`PLAUSIBLE_SHAFT_DIAMETER`, most likely a diameter in mm typed for m: the thickest
     named, with the count of the others."""
     lines = _length_lines(source, rotor, shaft) + _heavy_disk_lines(source, rotor, shaft) + \
-        _wide_disk_lines(source, rotor, shaft) + _overhanging_disk_lines(source, rotor, shaft)
+        _wide_disk_lines(source, rotor, shaft) + _overhanging_disk_lines(source, rotor, shaft) + \
+        _bored_disk_lines(source, rotor, shaft)
     thick = [(max(tube.outer), where) for i, section in enumerate(shaft.sections)
              for where, tube in ((f"shaft.{i}", section), *((f"shaft.{i}.layers.{k}", layer)
                                                           for k, layer in enumerate(section.layers)))
@@ -694,6 +697,44 @@ def _wide_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     return [f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] width = {disk.width:g}"
             f"{and_others(len(wide), 'disk')}: wider than the whole shaft it sits on ({shaft.length:g} m long); a "
             "width in mm typed for m? (model files are SI)"]
+
+
+def shaft_diameter_at(shaft: Shaft, z: float) -> float:
+    """The shaft's outer diameter [m] at ``z`` [m] from its start (linear along a tapered
+    section; the larger of two sections at their joint; the section's own outer tube, not its
+    layers)."""
+    ends = shaft.ends
+    found = [s.outer[0] + (s.outer[1] - s.outer[0]) * (min(max(z, a), b) - a) / (b - a)
+             for s, a, b in zip(shaft.sections, ends[:-1], ends[1:])
+             if a - STATION_TOLERANCE <= z <= b + STATION_TOLERANCE and b > a]
+    return float(max(found)) if found else 0.0
+
+
+def _bored_disk_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
+    """One warning line for ``shaft``'s disks given by their geometry whose bore
+    (``inner_diameter``, default 0) is below the shaft's outer diameter at their station: the
+    disk's ring ``rho pi/4 (D^2 - d^2) w`` then holds the shaft inside it, which the shaft's own
+    elements carry already, so its mass is counted twice (a 0.3 m steel disk 0.05 m wide on a 0.05
+    m shaft, bore left at 0: 0.766 kg of its 27.6 kg, and the rotor 1.8 % heavier than it is). A
+    disk around a shaft has a bore at least the shaft's diameter (ROSS's ``i_d``, "the diameter of
+    the shaft on which the disk is mounted"). The one counting most named, with the count of the
+    others."""
+    found = []
+    for disk in shaft.disks:
+        if disk.bore is None or disk.width is None:
+            continue
+        diameter = shaft_diameter_at(shaft, disk.z)
+        if disk.bore < diameter * (1.0 - 1e-6):
+            found.append((disk, diameter))
+    if not found:
+        return []
+    disk, diameter = found[0]
+    outer_squared = 8 * disk.polar_inertia / disk.mass - disk.bore ** 2            # J_p = m (D^2 + d^2) / 8
+    twice = disk.mass * (diameter ** 2 - disk.bore ** 2) / (outer_squared - disk.bore ** 2)
+    return [f"{source}: [rotors.{visible(rotor)}.disks.{visible(disk.name)}] inner_diameter = {disk.bore:g}"
+            f"{and_others(len(found), 'disk')}: a bore below the shaft's outer diameter {diameter:g} m at its station: "
+            f"the disk's ring holds the shaft inside it, {twice:.3g} kg the shaft's elements carry already (counted "
+            f"twice); give the disk's bore, inner_diameter = {diameter:g} (a disk around the shaft)"]
 
 
 #: a disk may reach beyond a shaft's end by this share of its width (round-off of positions
@@ -1064,14 +1105,78 @@ def _bending_dense(mass, shaft_k, supported_k):
 
     free = scipy.linalg.eigh(shaft_k, mass, eigvals_only=True)
     values, vectors = scipy.linalg.eigh(supported_k, mass)
-    return (_hz(free[4]),) + _supported(values, vectors, shaft_k, values[-1])
+    return (_hz(free[4]),) + _supported(values, vectors, shaft_k, supported_k)
 
 
-def _supported(values, vectors, shaft_k, largest):
+def off_node(shaft, z: float):
+    """Where a load or station at ``z`` [m] from a shaft's start stands against its mesh: ``(node,
+    offset)``, the nearest node and ``z`` less that node's place [m], or None where the point
+    shares the node as the mesh's own stations do (within :data:`MERGE_FRACTION` of the element
+    it lies in, and at least :data:`STATION_TOLERANCE`): a point a node stands for.
+
+    Parameters
+    ----------
+    shaft : Shaft
+        With its mesh.
+    z : float [m]
+
+    Returns
+    -------
+    (int, float) or None
+    """
+    nodes = np.asarray(shaft.mesh.z, dtype=float)
+    node = shaft.mesh.node(z)
+    offset = float(z) - float(nodes[node])
+    inside = int(np.clip(np.searchsorted(nodes, z) - 1, 0, len(nodes) - 2))
+    element = float(nodes[inside + 1] - nodes[inside])
+    if abs(offset) <= max(MERGE_FRACTION * element, STATION_TOLERANCE * (1.0 + shaft.length)):
+        return None
+    return node, offset
+
+
+def held_modes(values, vectors, stiffness, shift=0.0):
+    """Which undamped modes a stiffness holds: not a rigid-body motion it leaves free.
+
+    A mode is free when its eigenvalue ``omega^2 = phi^T K phi`` (``phi`` mass-normalised) lies
+    within the rounding of that product and of the solver's shift,
+    :data:`rotordyn_modal.analysis.modal.ENERGY_ROUND_OFF` ``eps (|phi|^T |K| |phi| + |shift|)``
+    (the rule that sets a mode's strain energy in a part to none; a shift-invert solve about
+    ``shift`` returns ``1/theta + shift``, rounded to ``eps |shift|``: a body no spring touches
+    has ``|K| phi = 0`` and its zero comes back as ``1e-14`` from a shift of ``-5``). The rule is
+    the mode's own: a bound set from the highest mode instead (``1e-9`` of it, before) took a
+    pinned shaft's first bending mode for a free motion where a fine mesh or very stiff bearings
+    raise the highest mode (a 2 m, 20 mm shaft of 500 elements on 1e8 N/m bearings: 9.9 Hz,
+    ``omega^2 = 3.9e3`` against ``1e-9`` of ``5e12``; its rounding is ``1e-4``).
+
+    Parameters
+    ----------
+    values : ndarray, shape (k,) [rad^2/s^2]
+        Eigenvalues ``omega^2`` of ``K phi = omega^2 M phi``.
+    vectors : ndarray, shape (n, k)
+        Their shapes, mass-normalised (``phi^T M phi = 1``, as ``eigh`` and ``eigsh`` give them).
+    stiffness : ndarray or scipy.sparse matrix, shape (n, n) [N/m, N m/rad]
+        The symmetric stiffness ``K``.
+    shift : float [rad^2/s^2]
+        The shift of a shift-invert solve that found them (0: a direct solve, ``eigh``).
+
+    Returns
+    -------
+    ndarray of bool, shape (k,)
+    """
+    from ..analysis.modal import ENERGY_ROUND_OFF
+
+    size = abs(stiffness) if hasattr(stiffness, "multiply") else np.abs(stiffness)
+    rounding = np.einsum("im,im->m", np.abs(vectors), size @ np.abs(vectors)) + abs(shift)
+    return values > ENERGY_ROUND_OFF * np.finfo(float).eps * rounding
+
+
+def _supported(values, vectors, shaft_k, supported_k, shift=0.0):
     """The lowest mode (frequency [Hz], share of strain energy in the shaft) and the lowest mostly
-    bending (or nan) of modes ``values`` (k,) ascending, ``vectors`` (4 N, k); ``largest`` the scale
-    of the eigenvalues below which a value counts as a rigid-body motion (the highest of all)."""
-    held = values > 1e-9 * largest             # not a rigid-body motion the supports leave free
+    bending (or nan) of modes ``values`` (k,) ascending, ``vectors`` (4 N, k) mass-normalised, of
+    ``supported_k`` (the shaft's and the supports' stiffness; ``shift`` that of a shift-invert
+    solve); a rigid-body motion the supports leave free (:func:`held_modes`) counts as
+    frequency 0."""
+    held = held_modes(values, vectors, supported_k, shift)
     values = np.where(held, values, 0.0)
     energy = np.einsum("im,im->m", vectors, shaft_k @ vectors)
     share = np.where(held, energy / np.where(held, values, 1.0), 0.0)
@@ -1104,7 +1209,7 @@ def _bending_sparse(mass, shaft_k, supported_k):
     count = FIRST_BENDING
     while True:
         values, vectors = lowest(supported_k, min(count, mass.shape[0] - 2))
-        (first, share), bending = _supported(values, vectors, shaft_k, largest)
+        (first, share), bending = _supported(values, vectors, shaft_k, supported_k, shift)
         if bending == bending or count >= MOST_BENDING:
             return _hz(free[4]), (first, share), bending
         count *= 2

@@ -274,3 +274,60 @@ def test_the_python_critical_speeds_table_gives_mode_at_speed(examples_dir, caps
                    "--out", "-"], capsys)
     np.testing.assert_array_equal(pd.read_csv(io.StringIO(out))["mode_at_speed"].to_numpy(),
                                   table["mode_at_speed"].to_numpy())
+
+
+_SYMMETRIC_ROTOR = """\
+name = "symmetric rigid rotor on two equal isotropic bearings"
+spin_axis = [1.0, 0.0, 0.0]
+reference_rotor = "r"
+
+[[rotors]]
+name = "r"
+mass = 10.0
+center_of_mass = [0.0, 0.0, 0.0]
+polar_inertia = {polar}
+diametral_inertia = 0.5
+speed_ratio = 1.0
+
+[[bearings]]
+name = "A"
+rotor = "r"
+position = [0.3, 0.0, 0.0]
+stiffness = 1.0e6
+damping = {damping}
+
+[[bearings]]
+name = "B"
+rotor = "r"
+position = [-0.3, 0.0, 0.0]
+stiffness = 1.0e6
+damping = {damping}
+"""
+
+
+@pytest.mark.parametrize("polar, damping", [(0.2, 0.0), (0.9, 0.0), (0.2, 300.0)])
+def test_a_repeated_roots_two_critical_speeds_name_its_two_modes(tmp_path, capsys, polar, damping):
+    """A symmetric rigid rotor (m = 10 kg) on two equal isotropic bearings (k = 1e6 N/m at
+    +-0.3 m): its cylindrical whirl is a repeated root at every speed, sqrt(2 k / m) (71.18 Hz,
+    4270.58 rpm on the 1X line), one backward and one forward whirl of one frequency. Both cross
+    the 1X line at that speed; each row names the mode ``modes --speed`` lists with the row's
+    whirl (before: both rows said the backward one's number)."""
+    path = tmp_path / "symmetric.toml"
+    path.write_text(_SYMMETRIC_ROTOR.format(polar=polar, damping=damping))
+    out, _ = _cli(["critical-speeds", path, "--speeds", "0:30000:61", "--out", "-"], capsys)
+    table = pd.read_csv(io.StringIO(out))
+    zeta = 2 * damping / (2 * np.sqrt(2 * 1.0e6 * 10.0))
+    cylindrical = np.sqrt(2 * 1.0e6 / 10.0) * np.sqrt(1 - zeta**2) * 30 / np.pi     # [rpm], closed form
+    pair = table[np.isclose(table.speed_rpm, cylindrical, rtol=1e-6)]
+    assert sorted(pair.whirl) == ["backward", "forward"], table
+    assert pair.mode_at_speed.nunique() == 2, table
+    for row in table.itertuples():
+        modes = _modes_table(path, f"{row.speed_rpm:.10g}", capsys)
+        listed = modes.loc[int(row.mode_at_speed)]
+        assert listed.whirl == row.whirl, (row, modes)
+        assert listed.frequency_hz == pytest.approx(row.speed_rpm / 60.0, rel=1e-6)
+    # the same in Python
+    model = rdm.load_model(path)
+    critical = rdm.critical_speeds(model, rdm.rpm(np.linspace(0.0, 30000.0, 61)))
+    at = np.isclose(critical.speeds_rpm, cylindrical, rtol=1e-6)
+    assert sorted(critical.mode_at_speed[at]) == sorted(pair.mode_at_speed)

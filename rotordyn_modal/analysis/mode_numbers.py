@@ -65,14 +65,17 @@ def repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, numbers) -> np.nd
     Two tracked modes of one repeated root (an isotropic rotor's cylindrical whirl: one
     frequency, one backward and one forward orbit) cross an order line at one speed, and
     :func:`number_of_root` gives both the root's lowest number. ``modes`` lists a repeated
-    root's members by their whirl ratio, backward first (``_eigensolve.resolve_repeated``), so
-    the member of the ``k``-th lowest whirl ratio is that number plus ``k``.
+    root's members by their whirl about ``+spin_axis``, backward first
+    (``_eigensolve.resolve_repeated``), so the member of the ``k``-th lowest whirl ratio about the
+    axis is that number plus ``k``. The ratios given are relative to the spin, whose sign a
+    negative speed reverses (``_whirl.ratios_of_forms``): there the forward whirl comes first.
 
     Parameters
     ----------
     speeds : ndarray, shape (P,) [rad/s]
     eigenvalues : ndarray, shape (P,), complex [1/s]
     whirl_ratios : ndarray, shape (P,)
+        Relative to the reference rotor's spin (as every table gives them).
     numbers : ndarray of int, shape (P,)
         Each row's number at its speed (0: not a mode).
 
@@ -81,7 +84,8 @@ def repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, numbers) -> np.nd
     ndarray of int, shape (P,): ``numbers``, with those of a repeated root's members spread
     """
     speeds, eigenvalues = np.asarray(speeds, dtype=float), np.asarray(eigenvalues)
-    whirl_ratios, out = np.asarray(whirl_ratios, dtype=float), np.array(numbers, dtype=int)
+    out = np.array(numbers, dtype=int)
+    about_axis = np.asarray(whirl_ratios, dtype=float) * np.where(speeds < 0, -1.0, 1.0)     # 0 counts as +
     for number in np.unique(out[out > 0]):
         rows = np.flatnonzero(out == number)
         while len(rows) > 1:
@@ -90,7 +94,7 @@ def repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, numbers) -> np.nd
                          & _roots.one_root(eigenvalues[rows], eigenvalues[first],
                                            _eigensolve.REPEATED_TOLERANCE * np.abs(eigenvalues[first]))]
             if len(group) > 1:
-                out[group[np.argsort(whirl_ratios[group], kind="stable")]] = number + np.arange(len(group))
+                out[group[np.argsort(about_axis[group], kind="stable")]] = number + np.arange(len(group))
             rows = np.setdiff1d(rows, group)
     return out
 

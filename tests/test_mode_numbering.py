@@ -331,3 +331,25 @@ def test_a_repeated_roots_two_critical_speeds_name_its_two_modes(tmp_path, capsy
     model = rdm.load_model(path)
     critical = rdm.critical_speeds(model, rdm.rpm(np.linspace(-30000.0, 30000.0, 121)))
     np.testing.assert_array_equal(critical.mode_at_speed, table.mode_at_speed.to_numpy())
+
+
+@pytest.mark.parametrize("command", ["campbell", "stability"])
+def test_a_repeated_roots_members_in_a_sweep_table_are_the_modes_modes_lists(tmp_path, capsys, command):
+    """The symmetric rotor swept from -8000 to 8000 rpm: at 0 rpm its conical whirl is a
+    repeated root (sqrt(2 k a^2 / Id) = 95.49 Hz), which the sweep reaches tracked from the
+    reversed spin, its forward member first. Each row's mode_at_speed is the mode ``modes
+    --speed`` lists with the row's frequency and whirl (before: at 0 rpm the forward member
+    said 3, the number of the backward one)."""
+    path = tmp_path / "symmetric.toml"
+    path.write_text(_SYMMETRIC_ROTOR.format(polar=0.2, damping=0.0))
+    out, _ = _cli([command, path, "--speeds", "-8000:8000:5", "--out", "-"], capsys)
+    table = pd.read_csv(io.StringIO(out))
+    conical = np.sqrt(2 * 1.0e6 * 0.3**2 / 0.5) / (2 * np.pi)                         # [Hz] at rest
+    at_rest = table[(table.speed_rpm == 0) & np.isclose(table.frequency_hz, conical, rtol=1e-9)]
+    assert sorted(at_rest.whirl) == ["backward", "forward"], table
+    for speed, rows in table.groupby("speed_rpm"):
+        modes = _modes_table(path, f"{speed:.10g}", capsys)
+        for row in rows.itertuples():
+            listed = modes.loc[int(row.mode_at_speed)]
+            assert listed.whirl == row.whirl and listed.frequency_hz == pytest.approx(row.frequency_hz, rel=1e-9), \
+                (speed, row, modes)

@@ -299,6 +299,11 @@ class CampbellResult:
         lam = self.eigenvalues
         return np.where(np.abs(lam.real) <= ROUND_OFF_RELATIVE * np.abs(lam), 0.0, values)
 
+    def _whirl_about_axis(self) -> np.ndarray:
+        """(N, n_modes): each whirl ratio about ``+spin_axis`` (the table's is relative to the
+        spin, which a negative speed reverses; zero speed counts as +)."""
+        return self.whirl_ratios * np.where(self.speeds < 0, -1.0, 1.0)[:, None]
+
     def to_dataframe(self, oscillatory_only: bool = True):
         """Long table ``speed_rpm, mode, frequency_hz, damping_ratio, log_decrement, whirl, whirl_ratio,
         real_part, mode_at_speed`` (``mode`` the tracked label, ``mode_at_speed`` the number
@@ -317,7 +322,8 @@ class CampbellResult:
             "whirl_ratio": self.whirl_ratios.ravel(),
             "real_part": self.eigenvalues.real.ravel(),
             # the number `modes --speed SPEED` gives the root (docs/model-file.md, mode numbers)
-            "mode_at_speed": pd.array(numbers_at_speed(self.eigenvalues).ravel(), dtype="Int64"),
+            "mode_at_speed": pd.array(numbers_at_speed(self.eigenvalues, self._whirl_about_axis()).ravel(),
+                                      dtype="Int64"),
         })
         table.loc[table["mode_at_speed"] == 0, "mode_at_speed"] = pd.NA
         table = table[keep].reset_index(drop=True)

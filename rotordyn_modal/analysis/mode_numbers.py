@@ -18,13 +18,17 @@ from .modal import is_oscillating
 __all__ = ["numbers_at_speed", "number_of_root", "numbers_at_crossings", "repeated_in_whirl_order"]
 
 
-def numbers_at_speed(eigenvalues) -> np.ndarray:
+def numbers_at_speed(eigenvalues, whirl_about_axis=None) -> np.ndarray:
     """The number :func:`.modal.modal` (and ``modes``) gives each root of one speed.
 
     Parameters
     ----------
     eigenvalues : array_like, shape (..., m), complex [1/s]
         The upper roots of each speed (one of each conjugate pair), any order.
+    whirl_about_axis : array_like, shape (..., m), optional
+        Each root's whirl ratio about ``+spin_axis`` (the tables' ratio times the sign of the
+        speed): a repeated root's members numbered as ``modes`` lists them, backward first
+        (without it, in the order given).
 
     Returns
     -------
@@ -37,7 +41,7 @@ def numbers_at_speed(eigenvalues) -> np.ndarray:
     # the modes first, by frequency then real part: modal's order (its upper roots sorted by
     # imaginary, then real part, the modes numbered in that order; a frequency shared to
     # round-off by modes of different damping: the least damped first, _eigensolve.frequency_order)
-    order = _eigensolve.frequency_order(lam, ~modes)
+    order = _eigensolve.frequency_order(lam, ~modes, whirl_about_axis)
     ranks = np.empty(lam.shape, dtype=int)
     np.put_along_axis(ranks, order, np.broadcast_to(np.arange(lam.shape[-1]), lam.shape), axis=-1)
     return np.where(modes, ranks + 1, 0)

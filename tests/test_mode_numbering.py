@@ -353,3 +353,5 @@ def test_a_repeated_roots_members_in_a_sweep_table_are_the_modes_modes_lists(tmp
             listed = modes.loc[int(row.mode_at_speed)]
             assert listed.whirl == row.whirl and listed.frequency_hz == pytest.approx(row.frequency_hz, rel=1e-9), \
                 (speed, row, modes)
+    # the labels are modes's numbers at the sweep's speed nearest zero (docs/model-file.md)
+    np.testing.assert_array_equal(table[table.speed_rpm == 0]["mode"], table[table.speed_rpm == 0].mode_at_speed)

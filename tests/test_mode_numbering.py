@@ -355,3 +355,22 @@ def test_a_repeated_roots_members_in_a_sweep_table_are_the_modes_modes_lists(tmp
                 (speed, row, modes)
     # the labels are modes's numbers at the sweep's speed nearest zero (docs/model-file.md)
     np.testing.assert_array_equal(table[table.speed_rpm == 0]["mode"], table[table.speed_rpm == 0].mode_at_speed)
+
+
+def test_two_sources_of_one_speed_ratio_name_one_mode_once(tmp_path, capsys):
+    """A second rotor turning at the reference's speed (held to the ground, no bearings) is a
+    second 1X source: each mode crosses both lines at one speed, and both rows are that one mode
+    (the backward and forward cylindrical whirl, a repeated root, still told apart by whirl)."""
+    path = tmp_path / "two_sources.toml"
+    path.write_text(_SYMMETRIC_ROTOR.format(polar=0.2, damping=0.0)
+                    + '\n[[rotors]]\nname = "s"\nmass = 1.0\ncenter_of_mass = [2.0, 0.0, 0.0]\n'
+                      'polar_inertia = 0.01\ndiametral_inertia = 0.01\nspeed_ratio = 1.0\n')
+    out, _ = _cli(["critical-speeds", path, "--speeds", "0:9000:37", "--out", "-"], capsys)
+    table = pd.read_csv(io.StringIO(out))
+    assert sorted(set(table.source)) == ["r", "s"] and len(table) == 8, table
+    for _, rows in table.groupby("mode"):
+        assert rows.mode_at_speed.nunique() == 1 and len(rows) == 2, table
+    for row in table.itertuples():
+        modes = _modes_table(path, f"{row.speed_rpm:.10g}", capsys)
+        listed = modes.loc[int(row.mode_at_speed)]
+        assert listed.whirl == row.whirl and listed.frequency_hz == pytest.approx(row.speed_rpm / 60.0, rel=1e-6)

@@ -63,7 +63,7 @@ def number_of_root(roots, eigenvalue) -> int:
     return int(numbers[same].min())
 
 
-def repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, numbers) -> np.ndarray:
+def repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, numbers, modes) -> np.ndarray:
     """Numbers of the members of a repeated root, told apart by their whirl.
 
     Two tracked modes of one repeated root (an isotropic rotor's cylindrical whirl: one
@@ -73,6 +73,7 @@ def repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, numbers) -> np.nd
     (``_eigensolve.resolve_repeated``), so the member of the ``k``-th lowest whirl ratio about the
     axis is that number plus ``k``. The ratios given are relative to the spin, whose sign a
     negative speed reverses (``_whirl.ratios_of_forms``): there the forward whirl comes first.
+    Rows of one tracked mode (its crossings of two sources of one speed ratio) keep one number.
 
     Parameters
     ----------
@@ -82,13 +83,15 @@ def repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, numbers) -> np.nd
         Relative to the reference rotor's spin (as every table gives them).
     numbers : ndarray of int, shape (P,)
         Each row's number at its speed (0: not a mode).
+    modes : ndarray of int, shape (P,)
+        Each row's tracked mode (its label): rows of one label are one root.
 
     Returns
     -------
     ndarray of int, shape (P,): ``numbers``, with those of a repeated root's members spread
     """
     speeds, eigenvalues = np.asarray(speeds, dtype=float), np.asarray(eigenvalues)
-    out = np.array(numbers, dtype=int)
+    modes, out = np.asarray(modes, dtype=int), np.array(numbers, dtype=int)
     about_axis = np.asarray(whirl_ratios, dtype=float) * np.where(speeds < 0, -1.0, 1.0)     # 0 counts as +
     for number in np.unique(out[out > 0]):
         rows = np.flatnonzero(out == number)
@@ -97,8 +100,11 @@ def repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, numbers) -> np.nd
             group = rows[(np.abs(speeds[rows] - speeds[first]) <= _SAME_SPEED * np.abs(speeds[first]))
                          & _roots.one_root(eigenvalues[rows], eigenvalues[first],
                                            _eigensolve.REPEATED_TOLERANCE * np.abs(eigenvalues[first]))]
-            if len(group) > 1:
-                out[group[np.argsort(about_axis[group], kind="stable")]] = number + np.arange(len(group))
+            labels, where = np.unique(modes[group], return_index=True)
+            if len(labels) > 1:             # members of one root: each label ranked by its whirl
+                rank = np.empty(len(labels), dtype=int)
+                rank[np.argsort(about_axis[group[where]], kind="stable")] = np.arange(len(labels))
+                out[group] = number + rank[np.searchsorted(labels, modes[group])]
             rows = np.setdiff1d(rows, group)
     return out
 
@@ -165,7 +171,7 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
         out[rest] = _solved_numbers(model, speeds[rest], eigenvalues[rest], values.shape[-1] if partial else None,
                                     progress)
     if whirl_ratios is not None and len(speeds) > 1:
-        out = repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, out)
+        out = repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, out, modes)
     return out
 
 

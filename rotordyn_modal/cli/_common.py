@@ -112,7 +112,7 @@ def mcs_option(args, signed: bool = False) -> float:
     speed = speed_value(args.mcs, args.speed_unit, option)
     size = abs(speed) if signed else speed
     if not size >= SMALLEST_POSITIVE:
-        rule = "other than 0 (of magnitude" if signed else "> 0 (at"
+        rule = "other than 0 (of magnitude at" if signed else "> 0 (at"
         raise InputError(f"{option} {args.mcs}: expected a maximum continuous speed {rule} least "
                          f"{SMALLEST_POSITIVE:g} rad/s)")
     return speed

@@ -53,3 +53,14 @@ def test_one_forward_mode_is_counted_in_the_singular(tmp_path, capsys):
     # at its centre of mass only the cylindrical forward whirl moves the rotor: one forward mode there
     assert "forward mode 9: there is 1 mode of rotor 'r' whirling forward at station r" in \
         _error(tmp_path, capsys, "--mcs", "3000", "--forward-mode", "9")
+
+
+def test_a_journal_at_rest_asks_for_a_speed_not_a_sweep(capsys):
+    """``modes --speed 0`` on journal bearings said "start the speed sweep above zero" (no sweep
+    was asked for)."""
+    from pathlib import Path
+
+    example = Path(__file__).resolve().parent.parent / "examples" / "journal_rotor.toml"
+    code = main(["modes", str(example), "--speed", "0"])
+    err = capsys.readouterr().err
+    assert code == 2 and "no oil film (eccentricity 1); give a speed above zero" in err and "sweep above" not in err, err

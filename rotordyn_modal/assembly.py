@@ -1007,6 +1007,6 @@ def _select(items, names, what: str):
         names = [names]
     missing = [n for n in names if n not in by_name]
     if missing:
-        known = ", ".join(by_name) or "none defined"
-        raise InputError(f"unknown {what} {', '.join(map(repr, missing))}: the model's {what}s are {known}")
+        known = f"the model's {what}s are {', '.join(by_name)}" if by_name else f"the model has no [[{what}s]]"
+        raise InputError(f"unknown {what} {', '.join(map(repr, missing))}: {known}")
     return [by_name[n] for n in names]

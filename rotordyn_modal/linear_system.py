@@ -22,6 +22,7 @@ from .assembly import Matrices, bearing_motion, constant_matrices, constant_stif
     dependent_bearing_matrices, excitation_columns, is_large, mass_matrix, sensor_rows, sparse_constant_matrices
 from .elements.bearings import evaluate
 from .errors import InputError, ModelError
+from .model._table import LARGEST
 from .model.dofs import frame_block
 from .stiffness_spread import refuse_lost_digits
 from .elements.mounts import maxwell_branch_blocks, with_branch_states
@@ -513,16 +514,25 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
         ``[[sensors]]`` [m, m/s or m/s^2], states ``q0..q{n-1}, dq0..dq{n-1}`` (the
         generalized coordinates ``model.dofs.names``), then six states per Maxwell
         branch of the mounts (see :func:`rotordyn_modal.elements.mounts.with_branch_states`).
+
+    Raises
+    ------
+    InputError
+        A ``speed`` that is not one finite number (of magnitude at most 1e30), an unknown
+        quantity or name, or outputs without an input (sensors and no excitation, or
+        ``inputs=[]``: python-control has no such system).
     """
     import control
 
+    speed = _checked_speed(speed)
     if quantity not in _QUANTITY_ORDER:
         raise InputError(f"quantity {quantity!r}: expected one of {', '.join(_QUANTITY_ORDER)}")
-    form = SpeedLinearForm(model)
-    n = form.n_dof
-    a = form.at(float(speed))
     columns = excitation_columns(model, inputs)
     rows = sensor_rows(model, outputs)
+    _refuse_outputs_without_inputs(model, inputs, rows.shape[0], columns.shape[1])
+    form = SpeedLinearForm(model)
+    n = form.n_dof
+    a = form.at(speed)
     b = np.zeros((form.n_states, columns.shape[1]))
     b[n:2 * n] = form.mass_inverse @ columns
     branch_states = form.branch_state_names
@@ -532,6 +542,39 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
     states = [f"q{i}" for i in range(n)] + [f"dq{i}" for i in range(n)] + branch_states
     return control.ss(a, b, c, d, inputs=input_names or None, outputs=output_names or None,
                       states=states, name=model.name or None)
+
+
+def _checked_speed(speed) -> float:
+    """``speed`` [rad/s] as one finite float of magnitude at most ``LARGEST``, else an
+    ``InputError`` naming it, in ``rdm.modal``'s words (a NaN gave a system of NaN matrices)."""
+    plain = speed.tolist() if isinstance(speed, (np.ndarray, np.generic)) else speed
+    shown = " ".join(repr(plain).split())[:80]
+    expected = "one finite number [rad/s]"
+    try:
+        array = np.asarray(speed)
+    except (TypeError, ValueError):
+        raise InputError(f"speed = {shown}: expected {expected}") from None
+    if array.dtype.kind not in "iuf":
+        raise InputError(f"speed = {shown}: expected {expected}")
+    if array.ndim:
+        raise InputError(f"speed = {shown}: expected {expected}, got an array of shape {array.shape}")
+    if not np.isfinite(array):
+        raise InputError(f"speed = {shown}: expected {expected}")
+    if abs(float(array)) > LARGEST:
+        raise InputError(f"speed = {shown}: expected a speed of magnitude at most {LARGEST:g} rad/s (beyond it "
+                         "the gyroscopic terms of the model's numbers overflow)")
+    return float(array)
+
+
+def _refuse_outputs_without_inputs(model, inputs, n_outputs: int, n_inputs: int) -> None:
+    """python-control has no system of outputs and no input (its ``StateSpace`` fails on the
+    empty D matrix, ``ControlDimension``): refuse it in one line, naming what to add."""
+    if n_outputs and not n_inputs:
+        given = "" if inputs is None else f"inputs = {list(inputs) if not isinstance(inputs, str) else inputs!r}: "
+        why = "none chosen" if inputs is not None else "the model has no [[excitations]]"
+        raise InputError(f"{model.source}: {given}a state-space model of {n_outputs} output(s) and no input ({why}): "
+                         "expected at least one input, an [[excitations]] table of the model (python-control "
+                         "has no system of outputs without inputs), or outputs=[]")
 
 
 def _output_matrices(a, b, rows, order: int):

@@ -274,3 +274,103 @@ def test_the_python_critical_speeds_table_gives_mode_at_speed(examples_dir, caps
                    "--out", "-"], capsys)
     np.testing.assert_array_equal(pd.read_csv(io.StringIO(out))["mode_at_speed"].to_numpy(),
                                   table["mode_at_speed"].to_numpy())
+
+
+_SYMMETRIC_ROTOR = """\
+name = "symmetric rigid rotor on two equal isotropic bearings"
+spin_axis = [1.0, 0.0, 0.0]
+reference_rotor = "r"
+
+[[rotors]]
+name = "r"
+mass = 10.0
+center_of_mass = [0.0, 0.0, 0.0]
+polar_inertia = {polar}
+diametral_inertia = 0.5
+speed_ratio = 1.0
+
+[[bearings]]
+name = "A"
+rotor = "r"
+position = [0.3, 0.0, 0.0]
+stiffness = 1.0e6
+damping = {damping}
+
+[[bearings]]
+name = "B"
+rotor = "r"
+position = [-0.3, 0.0, 0.0]
+stiffness = 1.0e6
+damping = {damping}
+"""
+
+
+@pytest.mark.parametrize("polar, damping", [(0.2, 0.0), (0.9, 0.0), (0.2, 300.0)])
+def test_a_repeated_roots_two_critical_speeds_name_its_two_modes(tmp_path, capsys, polar, damping):
+    """A symmetric rigid rotor (m = 10 kg) on two equal isotropic bearings (k = 1e6 N/m at
+    +-0.3 m): its cylindrical whirl is a repeated root at every speed, sqrt(2 k / m) (71.18 Hz,
+    4270.58 rpm on the 1X line), one backward and one forward whirl of one frequency. Both cross
+    the 1X line at that speed; each row names the mode ``modes --speed`` lists with the row's
+    whirl (before: both rows said the backward one's number)."""
+    path = tmp_path / "symmetric.toml"
+    path.write_text(_SYMMETRIC_ROTOR.format(polar=polar, damping=damping))
+    out, _ = _cli(["critical-speeds", path, "--speeds", "-30000:30000:121", "--out", "-"], capsys)
+    table = pd.read_csv(io.StringIO(out))
+    zeta = 2 * damping / (2 * np.sqrt(2 * 1.0e6 * 10.0))
+    cylindrical = np.sqrt(2 * 1.0e6 / 10.0) * np.sqrt(1 - zeta**2) * 30 / np.pi     # [rpm], closed form
+    for sign in (1, -1):             # reversed spin: modes lists the forward whirl first there
+        pair = table[np.isclose(table.speed_rpm, sign * cylindrical, rtol=1e-6)]
+        assert sorted(pair.whirl) == ["backward", "forward"], table
+        assert pair.mode_at_speed.nunique() == 2, table
+    for row in table.itertuples():
+        modes = _modes_table(path, f"{row.speed_rpm:.10g}", capsys)
+        listed = modes.loc[int(row.mode_at_speed)]
+        assert listed.whirl == row.whirl, (row, modes)
+        assert listed.frequency_hz == pytest.approx(abs(row.speed_rpm) / 60.0, rel=1e-6)
+    # the same in Python
+    model = rdm.load_model(path)
+    critical = rdm.critical_speeds(model, rdm.rpm(np.linspace(-30000.0, 30000.0, 121)))
+    np.testing.assert_array_equal(critical.mode_at_speed, table.mode_at_speed.to_numpy())
+
+
+@pytest.mark.parametrize("command", ["campbell", "stability"])
+def test_a_repeated_roots_members_in_a_sweep_table_are_the_modes_modes_lists(tmp_path, capsys, command):
+    """The symmetric rotor swept from -8000 to 8000 rpm: at 0 rpm its conical whirl is a
+    repeated root (sqrt(2 k a^2 / Id) = 95.49 Hz), which the sweep reaches tracked from the
+    reversed spin, its forward member first. Each row's mode_at_speed is the mode ``modes
+    --speed`` lists with the row's frequency and whirl (before: at 0 rpm the forward member
+    said 3, the number of the backward one)."""
+    path = tmp_path / "symmetric.toml"
+    path.write_text(_SYMMETRIC_ROTOR.format(polar=0.2, damping=0.0))
+    out, _ = _cli([command, path, "--speeds", "-8000:8000:5", "--out", "-"], capsys)
+    table = pd.read_csv(io.StringIO(out))
+    conical = np.sqrt(2 * 1.0e6 * 0.3**2 / 0.5) / (2 * np.pi)                         # [Hz] at rest
+    at_rest = table[(table.speed_rpm == 0) & np.isclose(table.frequency_hz, conical, rtol=1e-9)]
+    assert sorted(at_rest.whirl) == ["backward", "forward"], table
+    for speed, rows in table.groupby("speed_rpm"):
+        modes = _modes_table(path, f"{speed:.10g}", capsys)
+        for row in rows.itertuples():
+            listed = modes.loc[int(row.mode_at_speed)]
+            assert listed.whirl == row.whirl and listed.frequency_hz == pytest.approx(row.frequency_hz, rel=1e-9), \
+                (speed, row, modes)
+    # the labels are modes's numbers at the sweep's speed nearest zero (docs/model-file.md)
+    np.testing.assert_array_equal(table[table.speed_rpm == 0]["mode"], table[table.speed_rpm == 0].mode_at_speed)
+
+
+def test_two_sources_of_one_speed_ratio_name_one_mode_once(tmp_path, capsys):
+    """A second rotor turning at the reference's speed (held to the ground, no bearings) is a
+    second 1X source: each mode crosses both lines at one speed, and both rows are that one mode
+    (the backward and forward cylindrical whirl, a repeated root, still told apart by whirl)."""
+    path = tmp_path / "two_sources.toml"
+    path.write_text(_SYMMETRIC_ROTOR.format(polar=0.2, damping=0.0)
+                    + '\n[[rotors]]\nname = "s"\nmass = 1.0\ncenter_of_mass = [2.0, 0.0, 0.0]\n'
+                      'polar_inertia = 0.01\ndiametral_inertia = 0.01\nspeed_ratio = 1.0\n')
+    out, _ = _cli(["critical-speeds", path, "--speeds", "0:9000:37", "--out", "-"], capsys)
+    table = pd.read_csv(io.StringIO(out))
+    assert sorted(set(table.source)) == ["r", "s"] and len(table) == 8, table
+    for _, rows in table.groupby("mode"):
+        assert rows.mode_at_speed.nunique() == 1 and len(rows) == 2, table
+    for row in table.itertuples():
+        modes = _modes_table(path, f"{row.speed_rpm:.10g}", capsys)
+        listed = modes.loc[int(row.mode_at_speed)]
+        assert listed.whirl == row.whirl and listed.frequency_hz == pytest.approx(row.speed_rpm / 60.0, rel=1e-6)

@@ -257,7 +257,7 @@ def upper_indices(values: np.ndarray):
     return along(chosen, final), along(upper, final)
 
 
-def frequency_order(values, first=None):
+def frequency_order(values, first=None, whirl=None):
     """The order (..., m) of roots ``values`` (..., m) by frequency, with the frequencies that
     agree to round-off taken as one, its modes by damping, the least damped first
     (:func:`_ties_by_real_part`): the order of mode numbers, whatever the model's units.
@@ -268,6 +268,10 @@ def frequency_order(values, first=None):
     first : ndarray of bool, shape (..., m), optional
         A key before the frequency: the roots where it is False first (e.g. ``~oscillating``:
         the modes first).
+    whirl : ndarray, shape (..., m), optional
+        Each root's whirl ratio about ``+spin_axis``: the members of a repeated root (one
+        frequency and damping) by it, backward first, as :func:`resolve_repeated` makes and
+        :func:`upper_indices` orders them at one speed (without it, as they stand).
 
     Returns
     -------
@@ -279,7 +283,8 @@ def frequency_order(values, first=None):
         return order
     along = _gather(values.shape)
     groups = None if first is None else along(np.asarray(first), order)
-    return along(order, _ties_by_real_part(along(values, order), groups))
+    within = None if whirl is None else along(np.asarray(whirl, dtype=float), order)
+    return along(order, _ties_by_real_part(along(values, order), groups, within))
 
 
 #: imaginary parts closer than this, relative to the largest root of their row, are one frequency
@@ -290,7 +295,7 @@ def frequency_order(values, first=None):
 TIE_TOLERANCE = 256 * np.finfo(float).eps
 
 
-def _ties_by_real_part(upper, groups=None):
+def _ties_by_real_part(upper, groups=None, whirl=None):
     """The order (..., n) of roots ``upper`` (..., n), sorted by imaginary part and then real part,
     that orders the modes of one frequency by damping, the least damped (largest real part) first.
 
@@ -316,7 +321,8 @@ def _ties_by_real_part(upper, groups=None):
     apart = ~(np.diff(damped, axis=-1) <= tie) | (np.diff(run, axis=-1) != 0)   # NaN: a damping of its own
     damping = np.empty_like(runs)
     np.put_along_axis(damping, by_damping, np.cumsum(np.concatenate([start, apart], axis=-1), axis=-1), axis=-1)
-    return np.lexsort((np.broadcast_to(np.arange(upper.shape[-1]), upper.shape), damping), axis=-1)
+    keys = (np.broadcast_to(np.arange(upper.shape[-1]), upper.shape),) + (() if whirl is None else (whirl,))
+    return np.lexsort(keys + (damping,), axis=-1)
 
 
 def _gather(shape):

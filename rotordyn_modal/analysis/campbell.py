@@ -299,6 +299,11 @@ class CampbellResult:
         lam = self.eigenvalues
         return np.where(np.abs(lam.real) <= ROUND_OFF_RELATIVE * np.abs(lam), 0.0, values)
 
+    def _whirl_about_axis(self) -> np.ndarray:
+        """(N, n_modes): each whirl ratio about ``+spin_axis`` (the table's is relative to the
+        spin, which a negative speed reverses; zero speed counts as +)."""
+        return self.whirl_ratios * np.where(self.speeds < 0, -1.0, 1.0)[:, None]
+
     def to_dataframe(self, oscillatory_only: bool = True):
         """Long table ``speed_rpm, mode, frequency_hz, damping_ratio, log_decrement, whirl, whirl_ratio,
         real_part, mode_at_speed`` (``mode`` the tracked label, ``mode_at_speed`` the number
@@ -317,7 +322,8 @@ class CampbellResult:
             "whirl_ratio": self.whirl_ratios.ravel(),
             "real_part": self.eigenvalues.real.ravel(),
             # the number `modes --speed SPEED` gives the root (docs/model-file.md, mode numbers)
-            "mode_at_speed": pd.array(numbers_at_speed(self.eigenvalues).ravel(), dtype="Int64"),
+            "mode_at_speed": pd.array(numbers_at_speed(self.eigenvalues, self._whirl_about_axis()).ravel(),
+                                      dtype="Int64"),
         })
         table.loc[table["mode_at_speed"] == 0, "mode_at_speed"] = pd.NA
         table = table[keep].reset_index(drop=True)
@@ -506,7 +512,7 @@ def _tracked(stack, speeds, values, shapes, weighted):
     sweep's own, bit for bit."""
     from .tracking import doubtful_steps
 
-    order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+    order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds, stack, shapes)
     if stack.forms[0].n_states > _FINER_STATES or len(speeds) < 2:
         return order
     doubtful = doubtful_steps(values, weighted, order)
@@ -539,7 +545,8 @@ def _tracked_finer(stack, speeds, values, shapes, order, doubtful):
         values, shapes = np.concatenate([values, lam], axis=1)[:, at], np.concatenate([shapes, phi], axis=1)[:, at]
         weighted = WeightedRows(stack, shapes)
         # numbered at the sweep's own speed nearest zero, not at an added one
-        order = _relabel_by_frequency(track_modes_many(values, weighted, grid), values, np.where(own, grid, np.inf))
+        order = _relabel_by_frequency(track_modes_many(values, weighted, grid), values, np.where(own, grid, np.inf),
+                                      stack, shapes)
         doubtful = doubtful_steps(values, weighted, order)
     return order[:, own]
 
@@ -566,17 +573,35 @@ def _variant_rows(count, per):
     return np.zeros(per, dtype=int) if count == 1 else np.repeat(np.arange(count), per)
 
 
-def _relabel_by_frequency(order, values, speeds):
+def _relabel_by_frequency(order, values, speeds, stack=None, shapes=None):
     """Number tracked roots at the speed nearest zero: modes first, by ascending frequency,
     then the roots that are not modes there (so the labels are :func:`modal`'s numbers at that
     speed; :mod:`.mode_numbers` gives them at the others).
 
-    ``order`` and ``values`` have a leading variant axis: (V, N, m)."""
+    ``order`` and ``values`` have a leading variant axis: (V, N, m). With the ``stack`` and
+    its ``shapes`` (V, N, m, n), the members of a repeated root there (a symmetric rotor's
+    whirl at rest) are numbered as :func:`modal` lists them, by whirl about ``+spin_axis``,
+    backward first: a sweep through zero speed reaches them tracked in either order."""
     k0 = int(np.argmin(np.abs(speeds)))
     variants = np.arange(len(order))[:, None]
     at_k0 = values[variants, k0, order[:, k0]]
-    labels = _eigensolve.frequency_order(at_k0, ~is_oscillating(at_k0))
+    whirl = None
+    if stack is not None and shapes is not None and _has_ties(at_k0):
+        ratios = stack.whirl_ratios(np.asarray(shapes[:, k0]), np.arange(len(order)),
+                                    np.full(len(order), speeds[k0]))
+        whirl = ratios[variants, order[:, k0]] * (-1.0 if speeds[k0] < 0 else 1.0)       # about +spin_axis
+    labels = _eigensolve.frequency_order(at_k0, ~is_oscillating(at_k0), whirl)
     return order[variants[..., None], np.arange(order.shape[1])[:, None], labels[:, None, :]]
+
+
+def _has_ties(roots) -> bool:
+    """Whether two of ``roots`` (V, m) share a frequency to :data:`._eigensolve.TIE_TOLERANCE`
+    of their row's largest root (a repeated root, whose members' order is their whirl's)."""
+    ordered = np.sort(roots.imag, axis=-1)
+    size = np.abs(roots)
+    tie = _eigensolve.TIE_TOLERANCE * np.max(np.where(np.isfinite(size), size, 0.0), axis=-1, keepdims=True,
+                                             initial=0.0)
+    return bool((np.diff(ordered, axis=-1) <= tie).any())
 
 
 def _progress(items, enabled, description):
@@ -728,7 +753,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
         every = _variant_rows(1, len(speeds))
         # read by part where tracking and the critical speeds compare shapes: not a second copy of all
         weighted = WeightedRows(stack, shapes, one_thread=True)
-    order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+    order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds, stack, shapes)
     rows = np.zeros((1, 1, 1), int), np.arange(len(speeds))[None, :, None]
     values = values[rows + (order,)]
     shapes = _reordered(shapes, order)

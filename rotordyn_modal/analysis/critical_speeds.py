@@ -126,7 +126,7 @@ class CriticalSpeeds:
         with np.errstate(divide="ignore", invalid="ignore"):
             eigenvalues = -zeta * imag / np.sqrt(1 - zeta**2) + 1j * imag
         return numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, self.speeds, self.mode, eigenvalues,
-                                    progress=self._progress)
+                                    progress=self._progress, whirl_ratios=self.whirl_ratios)
 
     def to_dataframe(self, numbers: bool = True):
         """Table with the command line's columns (``pandas.DataFrame``): ``source, order, mode,

@@ -368,7 +368,8 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     runs = []
     for number in numbers:
         if not 1 <= number <= len(forward):
-            raise InputError(f"forward mode {number}: there are {len(forward)} modes of rotor {stations[0].rotor!r} "
+            count = f"is {len(forward)} mode" if len(forward) == 1 else f"are {len(forward)} modes"
+            raise InputError(f"forward mode {number}: there {count} of rotor {stations[0].rotor!r} "
                              f"whirling forward at station {stations[0]} at this speed")
         label = int(np.nonzero(order[pick] == forward[number - 1])[0][0])
         followed_sweep = lam[np.arange(len(sweep)), order[:, label]]

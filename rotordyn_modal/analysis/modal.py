@@ -343,6 +343,8 @@ def _rotor_whirl_ratios(model, shapes, speed) -> np.ndarray:
             body = bodies[:, bodies.shape[1] - len(model.rotors) + k]                 # (3, 6, 6)
             motion = model.dofs.body_motion(rotor.name)
             used = np.flatnonzero((motion != 0).any(axis=0))
+            if not len(used):               # held to the ground (no bearings, no [stator]): it does not whirl
+                continue
             motion = motion[:, used]
             own = _whirl.WhirlForms(*(motion.T @ body[d] @ motion for d in range(len(body))))
         out[:, k] = _whirl.whirl_ratios(shapes[None][..., used], own, np.array([speed]))[0]

@@ -12,19 +12,23 @@ from __future__ import annotations
 import numpy as np
 
 from ..linear_system import speed_linear_form
-from . import _arnoldi, _batches, _eigensolve
+from . import _arnoldi, _batches, _eigensolve, _roots
 from .modal import is_oscillating
 
-__all__ = ["numbers_at_speed", "number_of_root", "numbers_at_crossings"]
+__all__ = ["numbers_at_speed", "number_of_root", "numbers_at_crossings", "repeated_in_whirl_order"]
 
 
-def numbers_at_speed(eigenvalues) -> np.ndarray:
+def numbers_at_speed(eigenvalues, whirl_about_axis=None) -> np.ndarray:
     """The number :func:`.modal.modal` (and ``modes``) gives each root of one speed.
 
     Parameters
     ----------
     eigenvalues : array_like, shape (..., m), complex [1/s]
         The upper roots of each speed (one of each conjugate pair), any order.
+    whirl_about_axis : array_like, shape (..., m), optional
+        Each root's whirl ratio about ``+spin_axis`` (the tables' ratio times the sign of the
+        speed): a repeated root's members numbered as ``modes`` lists them, backward first
+        (without it, in the order given).
 
     Returns
     -------
@@ -37,7 +41,7 @@ def numbers_at_speed(eigenvalues) -> np.ndarray:
     # the modes first, by frequency then real part: modal's order (its upper roots sorted by
     # imaginary, then real part, the modes numbered in that order; a frequency shared to
     # round-off by modes of different damping: the least damped first, _eigensolve.frequency_order)
-    order = _eigensolve.frequency_order(lam, ~modes)
+    order = _eigensolve.frequency_order(lam, ~modes, whirl_about_axis)
     ranks = np.empty(lam.shape, dtype=int)
     np.put_along_axis(ranks, order, np.broadcast_to(np.arange(lam.shape[-1]), lam.shape), axis=-1)
     return np.where(modes, ranks + 1, 0)
@@ -45,13 +49,73 @@ def numbers_at_speed(eigenvalues) -> np.ndarray:
 
 def number_of_root(roots, eigenvalue) -> int:
     """The number ``modes`` gives the root of ``roots`` (one speed's upper roots) nearest
-    ``eigenvalue`` [1/s]; 0 when that root is not a mode."""
+    ``eigenvalue`` [1/s]; 0 when that root is not a mode. A repeated root (the roots within
+    ``_eigensolve.REPEATED_TOLERANCE`` of the largest, :func:`._roots.one_root`: an isotropic
+    rotor's cylindrical whirl) gives its lowest number, whichever of its copies the solver put
+    first; ``modes`` lists its members backward whirl first (:func:`repeated_in_whirl_order`)."""
     roots = np.asarray(roots)
-    return int(numbers_at_speed(roots)[int(np.argmin(np.abs(roots - eigenvalue)))])
+    numbers = numbers_at_speed(roots)
+    nearest = int(np.argmin(np.abs(roots - eigenvalue)))
+    if not numbers[nearest]:
+        return 0
+    scale = _eigensolve.REPEATED_TOLERANCE * np.abs(roots[np.isfinite(roots)]).max()
+    same = _roots.one_root(roots, roots[nearest], scale) & (numbers > 0)
+    return int(numbers[same].min())
+
+
+def repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, numbers, modes) -> np.ndarray:
+    """Numbers of the members of a repeated root, told apart by their whirl.
+
+    Two tracked modes of one repeated root (an isotropic rotor's cylindrical whirl: one
+    frequency, one backward and one forward orbit) cross an order line at one speed, and
+    :func:`number_of_root` gives both the root's lowest number. ``modes`` lists a repeated
+    root's members by their whirl about ``+spin_axis``, backward first
+    (``_eigensolve.resolve_repeated``), so the member of the ``k``-th lowest whirl ratio about the
+    axis is that number plus ``k``. The ratios given are relative to the spin, whose sign a
+    negative speed reverses (``_whirl.ratios_of_forms``): there the forward whirl comes first.
+    Rows of one tracked mode (its crossings of two sources of one speed ratio) keep one number.
+
+    Parameters
+    ----------
+    speeds : ndarray, shape (P,) [rad/s]
+    eigenvalues : ndarray, shape (P,), complex [1/s]
+    whirl_ratios : ndarray, shape (P,)
+        Relative to the reference rotor's spin (as every table gives them).
+    numbers : ndarray of int, shape (P,)
+        Each row's number at its speed (0: not a mode).
+    modes : ndarray of int, shape (P,)
+        Each row's tracked mode (its label): rows of one label are one root.
+
+    Returns
+    -------
+    ndarray of int, shape (P,): ``numbers``, with those of a repeated root's members spread
+    """
+    speeds, eigenvalues = np.asarray(speeds, dtype=float), np.asarray(eigenvalues)
+    modes, out = np.asarray(modes, dtype=int), np.array(numbers, dtype=int)
+    about_axis = np.asarray(whirl_ratios, dtype=float) * np.where(speeds < 0, -1.0, 1.0)     # 0 counts as +
+    for number in np.unique(out[out > 0]):
+        rows = np.flatnonzero(out == number)
+        while len(rows) > 1:
+            first = rows[0]
+            group = rows[(np.abs(speeds[rows] - speeds[first]) <= _SAME_SPEED * np.abs(speeds[first]))
+                         & _roots.one_root(eigenvalues[rows], eigenvalues[first],
+                                           _eigensolve.REPEATED_TOLERANCE * np.abs(eigenvalues[first]))]
+            labels, where = np.unique(modes[group], return_index=True)
+            if len(labels) > 1:             # members of one root: each label ranked by its whirl
+                rank = np.empty(len(labels), dtype=int)
+                rank[np.argsort(about_axis[group[where]], kind="stable")] = np.arange(len(labels))
+                out[group] = number + rank[np.searchsorted(labels, modes[group])]
+            rows = np.setdiff1d(rows, group)
+    return out
+
+
+#: critical speeds closer than this (relative) are one speed: a repeated root's members' crossings,
+#: each refined on its own, agree to round-off
+_SAME_SPEED = 1e-9
 
 
 def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, eigenvalues,
-                         progress=False) -> np.ndarray:
+                         progress=False, whirl_ratios=None) -> np.ndarray:
     """The number ``modes --speed`` gives tracked modes at speeds between a sweep's speeds.
 
     The number is one more than the count of the other roots below the mode's own eigenvalue at
@@ -75,6 +139,10 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
     progress : bool
         A bar (tqdm) over the crossings whose roots are solved (eigenvalues of the state matrix at
         each: about an hour for 20,000 crossings of 800 states).
+    whirl_ratios : ndarray, shape (P,), optional
+        Each mode's whirl ratio: the members of a repeated root crossing at one speed are then
+        numbered as ``modes`` lists them, backward first (:func:`repeated_in_whirl_order`);
+        without them they share the root's lowest number.
 
     Returns
     -------
@@ -102,6 +170,8 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
     if len(rest):
         out[rest] = _solved_numbers(model, speeds[rest], eigenvalues[rest], values.shape[-1] if partial else None,
                                     progress)
+    if whirl_ratios is not None and len(speeds) > 1:
+        out = repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, out, modes)
     return out
 
 

@@ -125,7 +125,12 @@ class StabilityResult:
     def modes_at_speed(self) -> np.ndarray:
         """(N, n_modes) int: the number ``modes --speed`` gives each tracked mode at each speed
         (0 where it is not a mode there); see :mod:`.mode_numbers`."""
-        return numbers_at_speed(self.eigenvalues)
+        # a repeated root's members by their whirl about +spin_axis, backward first, as modes lists them
+        turning = {"forward": 1.0, "backward": -1.0}
+        about_axis = np.vectorize(lambda w: turning.get(w, 0.0), otypes=[float])(self.whirl) if self.whirl.size else None
+        if about_axis is not None:
+            about_axis = about_axis * np.where(self.speeds < 0, -1.0, 1.0)[:, None]
+        return numbers_at_speed(self.eigenvalues, about_axis)
 
     @property
     def threshold_speed(self) -> float:

@@ -112,7 +112,7 @@ def mcs_option(args, signed: bool = False) -> float:
     speed = speed_value(args.mcs, args.speed_unit, option)
     size = abs(speed) if signed else speed
     if not size >= SMALLEST_POSITIVE:
-        rule = "other than 0 (of magnitude" if signed else "> 0 (at"
+        rule = "other than 0 (of magnitude at" if signed else "> 0 (at"
         raise InputError(f"{option} {args.mcs}: expected a maximum continuous speed {rule} least "
                          f"{SMALLEST_POSITIVE:g} rad/s)")
     return speed
@@ -391,9 +391,8 @@ def check_known(names, text, option: str, what: str, known) -> None:
     model's sensors are a, b``); ``names`` None (not given) passes."""
     missing = [n for n in names or () if n not in known]
     if missing:
-        listed = ", ".join(known) or "none defined"
-        raise InputError(f"{option} {text}: unknown {what} {', '.join(map(repr, missing))}: the model's {what}s "
-                         f"are {listed}")
+        listed = f"the model's {what}s are {', '.join(known)}" if known else f"the model has no [[{what}s]]"
+        raise InputError(f"{option} {text}: unknown {what} {', '.join(map(repr, missing))}: {listed}")
 
 
 def _list_items(text: str, option: str) -> list[tuple[str, bool]]:

@@ -164,7 +164,7 @@ def _speeds(speed) -> np.ndarray:
                          "expected finite speeds")
     if (speed == 0).any():
         raise InputError("short journal bearing: speed = 0 rpm: a journal that does not turn has "
-                         "no oil film (eccentricity 1); start the speed sweep above zero")
+                         "no oil film (eccentricity 1); give a speed above zero (a sweep's first speed too)")
     return speed
 
 

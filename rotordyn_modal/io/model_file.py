@@ -120,6 +120,8 @@ def read_toml(path, what: str, error=ModelError) -> dict:
                     f"a number of magnitude at most {LARGEST:g} (SI units)" if literal.overflow else
                     "a number a double can hold (magnitude at least 5e-324; write 0 for zero)") from None
     except tomllib.TOMLDecodeError as problem:
+        if (twice := _given_twice(text, problem)) is not None:
+            raise error(source, *twice) from None
         raise error(source, "<file>", str(problem), "valid TOML" + _unseen_character(text, problem)) from None
     except RecursionError:
         raise error(source, "<file>", "arrays or tables nested too deep to parse", nested) from None
@@ -182,6 +184,41 @@ def _literal_line(text: str, literal: str):
         if pattern.search(code):
             return number, key
     return 0, ""
+
+
+def _given_twice(text: str, problem):
+    """``(where, value, expected)`` of a TOML error that is a key or table given twice, naming
+    the key, its table and the second value (tomllib says only "Cannot overwrite a value (at
+    line 8, column 12)" or "Cannot declare ('stator',) twice"); None for any other error."""
+    import re
+
+    said = str(problem)
+    at = re.search(r"at line (\d+), column \d+\)", said)
+    lines = text.split("\n")
+    if at is None or not 0 < int(at.group(1)) <= len(lines):
+        return None
+    number = int(at.group(1))
+    code = lines[number - 1].split("#", 1)[0].strip()
+    if said.startswith("Cannot declare") or (said.startswith("Cannot overwrite") and code.startswith("[")):
+        header = _Typed(code)
+        return (f"line {number}: table header", header,
+                f"each table once: {header} is declared a second time here, or names a key given a value before "
+                "(TOML cannot reopen a table; one [[...]] per element of an array of tables)")
+    if not said.startswith("Cannot overwrite"):
+        return None
+    key, equals, value = lines[number - 1].partition("=")
+    if not equals:
+        return None
+    key, value = key.strip(), value.strip()
+    if value[:1] in ("'", '"') and value.find(value[0], 1) > 0:      # a string: to its closing quote ('#' inside)
+        value = value[:value.find(value[0], 1) + 1]
+    else:
+        value = value.split("#", 1)[0].strip()
+    table = next((line.split("#", 1)[0].strip() for line in reversed(lines[:number - 1])
+                  if line.lstrip().startswith("[")), "")
+    where = f"line {number}: {table} {key}" if table else f"line {number}: {key}"
+    return (where, _Typed(value.strip()),
+            f"each key once in its table: {key} is given a second time here (TOML cannot overwrite a value)")
 
 
 def _unseen_character(text: str, problem) -> str:

@@ -1294,7 +1294,8 @@ def tracked_numbers(campbell, mcs, numbers) -> tuple:
     if campbell is None:
         return ()
     k = int(np.argmin(np.abs(np.abs(campbell.speeds) - mcs)))
-    at_mcs = numbers_at_speed(campbell.eigenvalues[k])
+    about_axis = campbell.whirl_ratios[k] * (-1.0 if campbell.speeds[k] < 0 else 1.0)     # a repeated root's members
+    at_mcs = numbers_at_speed(campbell.eigenvalues[k], about_axis)
     return tuple(int(campbell.modes[np.flatnonzero(at_mcs == n)[0]]) if (at_mcs == n).any() else 0
                  for n in numbers)
 
@@ -1345,7 +1346,7 @@ def _critical_numbers(data, result):
     critical speed of the Campbell sweep: its tracked mode's root at the sweep speed nearest the
     MCS, numbered as ``modes`` numbers the nearest root at the MCS; the last is the number the
     critical-speed table gives it (the sweep's tracked column, numbered at its first speed)."""
-    from ..analysis.mode_numbers import number_of_root
+    from ..analysis.mode_numbers import number_of_root, repeated_in_whirl_order
 
     campbell = data.results.get("campbell")
     if campbell is None:
@@ -1353,12 +1354,14 @@ def _critical_numbers(data, result):
     table = campbell.critical.to_dataframe(numbers=False)
     table = table[np.isclose(table["order"].astype(float), 1.0)]
     nearest = int(np.argmin(np.abs(np.abs(campbell.speeds) - data.inputs.mcs)))
-    out = []
-    for row in table.itertuples():
-        number = number_of_root(result.eigenvalues, campbell.eigenvalues[nearest, int(row.mode) - 1])
-        if number:
-            out.append((number, row.speed_rpm * np.pi / 30, int(row.mode)))
-    return out
+    columns = table["mode"].to_numpy(dtype=int) - 1
+    roots = campbell.eigenvalues[nearest, columns]
+    numbers = np.array([number_of_root(result.eigenvalues, lam) for lam in roots], dtype=int)
+    # the members of a repeated root at the MCS (a symmetric rotor's whirl pair) by their whirl, as modes lists them
+    numbers = repeated_in_whirl_order(np.full(len(numbers), campbell.speeds[nearest]), roots,
+                                      campbell.whirl_ratios[nearest, columns], numbers, columns)
+    return [(int(number), row.speed_rpm * np.pi / 30, int(row.mode))
+            for number, row in zip(numbers, table.itertuples()) if number]
 
 
 def _unbalance(data):

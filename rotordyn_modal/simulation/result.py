@@ -135,8 +135,9 @@ class SimulationResult:
         from ..errors import InputError
 
         if name not in self.sensor_names:
-            known = ", ".join(self.sensor_names) or "none defined"
-            raise InputError(f"unknown sensor {name!r}: the model's sensors are {known}")
+            known = (f"the model's sensors are {', '.join(self.sensor_names)}" if self.sensor_names else
+                     "the model has no [[sensors]]")
+            raise InputError(f"unknown sensor {name!r}: {known}")
         return self.sensors[:, self.sensor_names.index(name)]
 
     def to_dataframe(self):

@@ -203,6 +203,23 @@ def test_command_line(tmp_path, capsys):
     assert main(["ucs-map", "examples/journal_rotor.toml", "--stiffness", "1e5:1e10:11", "--bearings", "X"]) == 2
 
 
+def test_speeds_on_constant_bearings_say_they_change_nothing(tmp_path, capsys):
+    """``--speeds`` sets where speed-dependent bearings' curves are drawn: on a map of constant
+    bearings it changed nothing and was ignored without a word; now one warning line says so, and
+    the map is the one without it. On journal bearings it is used, and no such line is written."""
+    fan = ["ucs-map", "examples/fan_on_bearings.toml", "--stiffness", "1e5:1e9:5"]
+    assert main(fan + ["--out", str(tmp_path / "a.csv")]) == 0
+    assert "changes nothing" not in capsys.readouterr().err
+    assert main(fan + ["--speeds", "100:3000:5", "--out", str(tmp_path / "b.csv")]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if "changes nothing" in line]
+    assert len(lines) == 1 and "--speeds 100:3000:5" in lines[0] and "fan-NDE" in lines[0], lines
+    assert (tmp_path / "a.csv").read_text() == (tmp_path / "b.csv").read_text()
+    journal = ["ucs-map", "examples/journal_rotor.toml", "--stiffness", "1e5:1e10:5", "--speeds", "100:3000:5",
+               "--out", str(tmp_path / "c.csv")]
+    assert main(journal) == 0
+    assert "changes nothing" not in capsys.readouterr().err
+
+
 def test_figure_writes_every_crossing_and_name_clear_of_curves_markers_and_each_other():
     """The fan's map (three bearing stiffnesses meeting the modes in tight clusters, five curves
     ending inside the axes): every crossing's speed is written (none hidden behind a neighbour's),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import warnings
 
 import numpy as np
 
@@ -73,8 +74,10 @@ def run(args) -> int:
     operating = _operating(args) if args.operating is not None else None
     model = open_model(args)
     bearings = parse_names(args.bearings, "--bearings", [b.name for b in model.bearings])
-    check_operating_tables(model, operating, [b for b in model.bearings if bearings is None or b.name in bearings],
-                           f"{as_typed(args, '--operating-range')} {args.operating}")
+    chosen = [b for b in model.bearings if bearings is None or b.name in bearings]
+    check_operating_tables(model, operating, chosen, f"{as_typed(args, '--operating-range')} {args.operating}")
+    if speeds is not None:
+        _warn_speeds_unused(chosen, args)
     # one batched solve per stiffness value, no steps to count (500 geared rotors: more than 400 s)
     with phase(show_progress(args), f"ucs-map: {len(stiffness):,} stiffness values, {model.dofs.n:,} coordinates"):
         result = ucs_map(model, stiffness, modes=modes, bearings=bearings, speeds=speeds, operating=operating)
@@ -86,6 +89,21 @@ def run(args) -> int:
         use_agg()
         save_figure(result.plot(units=args.units), args)
     return 0
+
+
+def _warn_speeds_unused(chosen, args) -> None:
+    """One warning line where ``--speeds`` is given but none of the map's bearings ``chosen`` has
+    speed-dependent coefficients: the option only sets where their stiffness curves are drawn,
+    and a constant bearing's stiffness is one vertical line whatever the speeds (it was ignored
+    without a word)."""
+    if any(bearing.coefficients.kind != "constant" for bearing in chosen):
+        return
+    from ..model._table import visible
+
+    names = ", ".join(visible(bearing.name) for bearing in chosen)
+    warnings.warn(f"{as_typed(args, '--speeds')} {args.speeds}: changes nothing: it sets the speeds at which "
+                  f"speed-dependent bearings' stiffness is drawn, and the map's bearings ({names}) are constant "
+                  "(each drawn as one vertical line)")
 
 
 def _stiffness(text, system="si"):

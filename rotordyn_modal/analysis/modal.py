@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from ..model.flexible import ENERGY_ROUND_OFF as _ENERGY_ROUND_OFF
 from ..model.geometry import point_motion_row
 from ..linear_system import speed_linear_form
 from . import _arguments, _batches, _eigensolve, _roots, _vectors, _whirl
@@ -495,10 +496,9 @@ def _energies(shapes, K):
     return 0.5 * _quadratic(shapes, K)
 
 
-#: a part's strain energy is none where it is within this many ``eps`` of ``1/2 |phi|^T |K| |phi|``,
-#: what rounding can make of a product that is zero (measured: up to 0.1 of it for rigid-body modes
-#: of a 2 mm shaft and a 1000 m disk; a strained part has 1e11 of it and more)
-ENERGY_ROUND_OFF = 1e3
+#: a part's strain energy is none where it is within this many ``eps`` of ``1/2 |phi|^T |K| |phi|``
+#: (defined on the model's floor, where ``check``'s count of held modes reads it too)
+ENERGY_ROUND_OFF = _ENERGY_ROUND_OFF
 
 
 def _energy_bounds(shapes, K):

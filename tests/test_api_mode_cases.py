@@ -163,3 +163,35 @@ def test_cli_prints_the_mode_case(capsys):
     assert "api-mode1:compressor" in out and "api-mode2:compressor" not in out
     checks = out[out.index("scale_factor"):]           # the clearance table (its heading on stderr)
     assert "api-mode1:compressor" in checks
+
+
+@pytest.mark.parametrize("route", ["basis", "sparse"])
+def test_a_larger_model_places_as_the_full_solution(monkeypatch, route):
+    """Above 400 coordinates the modes come from a basis of the symmetric parts' lowest modes
+    (dense, or sparse shift-invert above the sparse size): the same cases as the full state
+    solution, frequencies to 1e-4 (the basis: 2e-5 here), on a 120-element shaft with an overhung disk and cross-coupled
+    bearings (so that K is not symmetric)."""
+    from rotordyn_modal import assembly
+    from rotordyn_modal.analysis import unbalance_checks
+
+    def model():
+        data = _pinned_shaft(disks=[{"name": "disk", "axial_position": L, "mass": 30.0, "polar_inertia": 0.3,
+                                     "diametral_inertia": 0.15}]).to_dict()
+        data["rotors"][0]["shaft"][0]["elements"] = 120
+        data["bearings"] = [{"name": n, "rotor": "shaft", "axial_position": z,
+                             "stiffness": [[1e8, 2e7], [-2e7, 1.5e8]]} for n, z in (("A", 0.0), ("B", 0.6))]
+        return rdm.Model.from_dict(data)
+
+    mcs = rdm.rpm(9000.0)
+    reduced_model = model()
+    assert reduced_model.dofs.n > unbalance_checks._FULL_STATES_DOF
+    if route == "sparse":
+        monkeypatch.setattr(assembly, "SPARSE_DOF", 100)
+        assert assembly.is_large(reduced_model)
+    reduced = api_mode_placements(reduced_model, mcs, reach=3.0)
+    monkeypatch.setattr(assembly, "SPARSE_DOF", 2500)
+    monkeypatch.setattr(unbalance_checks, "_FULL_STATES_DOF", 10 ** 6)
+    full = api_mode_placements(model(), mcs, reach=3.0)
+    assert len(full) >= 2
+    assert [(p.stations, p.phases_deg) for p in reduced] == [(p.stations, p.phases_deg) for p in full]
+    assert [p.frequency_hz for p in reduced] == pytest.approx([p.frequency_hz for p in full], rel=1e-4)

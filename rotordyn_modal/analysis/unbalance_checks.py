@@ -610,17 +610,48 @@ def api_mode_placements(model, mcs: float, reach: float = MODE_REACH) -> list:
     return list(made[key])
 
 
-def _undamped_modes(model, speed):
+#: models up to this many coordinates get their undamped modes from the dense eigen-solution of
+#: all their states; larger ones on a basis of the lowest modes of their symmetric parts
+_FULL_STATES_DOF = 400
+#: the basis reaches this many times the highest frequency of interest (the gyroscopic terms couple
+#: a mode to its neighbours in frequency only)
+_BASIS_REACH = 4.0
+#: and holds at least this many modes
+_BASIS_MODES = 24
+
+
+def _undamped_modes(model, speed, top_hz):
     """``(frequencies [Hz] (m,), shapes (m, n), M)``: the undamped oscillating modes at ``speed``
-    [rad/s], increasing."""
+    [rad/s] up to ``top_hz`` at least, increasing (dense or sparse ``M``)."""
+    from ..assembly import is_large, sparse_bearing_matrices, sparse_constant_matrices
+
+    if is_large(model):
+        M, _, G, K = sparse_constant_matrices(model)
+        if model.speed_dependent:
+            K = K + sparse_bearing_matrices(model, speed, dependent_only=True)[0]
+    else:
+        M, _, G, K = (np.asarray(x) for x in model.matrices(speed))
+    n = M.shape[0]
+    if n <= _FULL_STATES_DOF:
+        values, shapes = _state_modes(M, speed * G, K)
+    else:
+        basis = _symmetric_basis(M, K, 2 * np.pi * _BASIS_REACH * top_hz)
+        project = lambda X: np.asarray(basis.T @ (X @ basis))             # noqa: E731
+        values, reduced = _state_modes(project(M), speed * project(G), project(K))
+        shapes = reduced @ basis.T
+    return values.imag / (2 * np.pi), shapes, M
+
+
+def _state_modes(M, G, K):
+    """The oscillating roots ``lam`` (Im > 0, increasing) and shapes (m, n) of
+    ``(lam^2 M + lam G + K) phi = 0``, from a dense eigen-solution of the states."""
     import scipy.linalg
 
     from . import _batches
 
-    M, _, G, K = (np.asarray(x) for x in model.matrices(speed))
     n = len(M)
     eye, zero = np.eye(n), np.zeros((n, n))
-    A = np.block([[zero, eye], [-K, -speed * G]])
+    A = np.block([[zero, eye], [-K, -G]])
     B = np.block([[eye, zero], [zero, M]])
     with _batches.one_blas_thread(72 * (2 * n) ** 2):
         values, vectors = scipy.linalg.eig(A, B)
@@ -628,17 +659,46 @@ def _undamped_modes(model, speed):
     largest = float(np.abs(values[finite]).max()) if finite.any() else 0.0
     keep = np.flatnonzero(finite & (values.imag > 1e-9 * largest))
     keep = keep[np.argsort(values[keep].imag)]
-    return values[keep].imag / (2 * np.pi), vectors[:n, keep].T, M
+    return values[keep], vectors[:n, keep].T
+
+
+def _symmetric_basis(M, K, top):
+    """(n, b): the modes of ``(sym K, M)`` up to ``top`` [rad/s] and at least :data:`_BASIS_MODES`
+    (M-orthonormal; dense ``eigh`` or sparse shift-invert ``eigsh``, shifted below zero: a free
+    motion's zero stiffness is no pole)."""
+    import scipy.linalg
+    import scipy.sparse
+    import scipy.sparse.linalg
+
+    from . import _batches
+
+    n = M.shape[0]
+    Ks = 0.5 * (K + K.T)
+    if not scipy.sparse.issparse(M):
+        with _batches.one_blas_thread(72 * n ** 2):
+            squares, vectors = scipy.linalg.eigh(Ks, M)
+        count = max(int(np.count_nonzero(squares <= top ** 2)), min(_BASIS_MODES, n))
+        return vectors[:, :count]
+    shift = -max(1e-6 * top ** 2, 1e-12)
+    count = min(_BASIS_MODES, n - 2)
+    while True:
+        squares, vectors = scipy.sparse.linalg.eigsh(Ks.tocsc(), k=count, M=M.tocsc(), sigma=shift, which="LM")
+        order = np.argsort(squares)
+        squares, vectors = squares[order], vectors[:, order]
+        if squares[-1] > top ** 2 or count >= n - 2:
+            return vectors
+        count = min(2 * count, n - 2)
 
 
 def _mode_placements(model, mcs, reach, rotors):
     from ..assembly import flexible_rotor_matrices
     from ..model.geometry import transverse_axes
 
-    frequencies, shapes, M = _undamped_modes(model, mcs)
+    top = reach * mcs / (2 * np.pi) * max(abs(r.speed_ratio) for r in rotors)       # [Hz]
+    frequencies, shapes, M = _undamped_modes(model, mcs, top)
     e = np.asarray(model.spin_axis, dtype=float)
     a, b = transverse_axes(e)
-    totals = np.einsum("mi,ij,mj->m", shapes.conj(), M, shapes).real
+    totals = np.array([np.real(phi.conj() @ (M @ phi)) for phi in shapes])
     out = []
     for rotor in rotors:
         top = reach * abs(rotor.speed_ratio) * mcs / (2 * np.pi)          # [Hz]

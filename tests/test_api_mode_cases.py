@@ -218,3 +218,23 @@ def test_report_shows_and_counts_the_mode_case(tmp_path):
     assert "api-mode1:shaft" in page and "api-mode2:shaft" not in page
     assert "api-mode1, api-mode2, ... for each lateral mode up to 1.3 x its 1X frequency" in page
 
+
+
+def test_mode_frequencies_are_the_modal_analysis_of_the_undamped_machine():
+    """Without damping the modes of interest are rdm.modal's at the MCS (its frequencies to 1e-9):
+    an overhung disk (gyroscopic split of the backward and forward pairs) on anisotropic bearings;
+    each pair (and each plane) gives one case, the lower frequency's."""
+    data = _pinned_shaft(disks=[{"name": "disk", "axial_position": L, "mass": 30.0, "polar_inertia": 0.6,
+                                 "diametral_inertia": 0.3}]).to_dict()
+    data["bearings"] = [{"name": n, "rotor": "shaft", "axial_position": z, "stiffness": [[2e8, 0.0], [0.0, 1e8]]}
+                        for n, z in (("A", 0.0), ("B", 0.6))]
+    model = rdm.Model.from_dict(data)
+    mcs = rdm.rpm(6000.0)
+    placements = api_mode_placements(model, mcs, reach=3.0)
+    modal = rdm.modal(model, mcs)
+    frequencies = modal.frequencies_hz[modal.oscillatory]
+    assert len(placements) >= 2
+    for p in placements:
+        assert np.min(np.abs(frequencies - p.frequency_hz)) < 1e-9 * p.frequency_hz
+    lateral = [f for f in frequencies if f <= 3.0 * 100.0]
+    assert len(lateral) > len(placements)            # pairs and planes taken once

@@ -448,8 +448,8 @@ def api_unbalance_cases(model, mcs: float, reach: float = MODE_REACH):
       rotor overhangs its bearings: the lever rule's moment balance.)
     - ``api-mode1:ROTOR``, ``api-mode2:ROTOR``, ... for a flexible rotor (one with a shaft): one
       case per lateral mode of interest of the rotor (:func:`api_mode_placements`: the undamped
-      modes at the MCS up to ``reach`` times its 1X frequency whose kinetic energy is mostly its
-      shaft's, a backward/forward pair once), numbered by ascending frequency among them, the
+      modes at the MCS up to ``reach`` times its 1X frequency whose kinetic energy is mostly this
+      rotor's lateral motion, a backward/forward pair once), numbered by ascending frequency among them, the
       unbalance at the mode's antinodes (a mesh node each, by ``axial_position``): the static
       amount at the largest, or, where an antinode of the other sign reaches half of it, the
       couple amounts at the two, 180 deg apart. Rigid rotors have none.

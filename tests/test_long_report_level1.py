@@ -133,8 +133,10 @@ def test_the_api_cases_are_counted_without_being_made(examples_dir):
     from rotordyn_modal.report.collect import _api_cases
 
     for name in ("journal_rotor", "gear_machine", "motor_pump_on_mounts", "fan_on_bearings", "compressor_rotor"):
-        model = rdm.load_model(examples_dir / f"{name}.toml")
-        assert _api_cases(model) == len(api_unbalance_cases(model, rdm.rpm(3000.0))), name
+        for rpm in (3000.0, 9000.0):                # compressor_rotor's first bending mode within reach at 9000
+            model = rdm.load_model(examples_dir / f"{name}.toml")
+            assert _api_cases(model, rdm.rpm(rpm)) == len(api_unbalance_cases(model, rdm.rpm(rpm))), (name, rpm)
+    assert _api_cases(model, rdm.rpm(9000.0)) == 3            # static, couple, api-mode1
 
 
 def test_level1_over_the_limit_is_refused_before_its_sweep_with_the_count_it_would_solve(monkeypatch, capsys):

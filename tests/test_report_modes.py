@@ -111,7 +111,9 @@ def test_clearance_table_and_criterion_equal_the_analysis(page):
     clearance = section[section.index('id="clearance"'):]
     rows = _rows(clearance)
     radial = {c.name: c.radial_clearance for c in model.clearances}
-    assert len(rows) == len(model.clearances) * 2 == len(check)     # two stations, two API cases
+    # two stations, three API cases: static, couple and the flexible shaft's first mode (api-mode1)
+    assert len(rows) == len(model.clearances) * 3 == len(check)
+    assert sorted(set(check.case)) == ["api-couple:shaft", "api-mode1:shaft", "api-static:shaft"]
     for row, expected in zip(rows, check.itertuples()):
         name, rotor, case, radial_um, speed, response, scale, scaling, value, limit, ratio, verdict = row
         assert (name, rotor, case) == (expected.clearance, expected.rotor, expected.case)

@@ -33,10 +33,23 @@ from ..model import Model
 from ..unbalance_standards import (api_analysis_unbalance, api_probe_limit, iso_zone_boundaries, iso_zones,
                                    largest_margins_text, required_separation_margin)
 
-__all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "sensor_groups", "separation_margins",
+__all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "api_mode_placements", "ModePlacement",
+           "MODE_REACH", "sensor_groups", "separation_margins",
            "operating_range", "case_models", "AF_UNKNOWN", "AF_UNBOUNDED"]
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
+
+#: a flexible rotor's API modes of interest reach up to this many times its 1X frequency (the API
+#: separation margin's largest requirement is 26 %: a mode up to 1.26 x MCS can need a margin)
+MODE_REACH = 1.3
+#: a mode is a rotor's when more than this share of its lateral kinetic energy is that rotor's
+MODE_ENERGY_SHARE = 0.5
+#: an antinode of the other sign at least this fraction of the largest makes the mode's case a
+#: couple (an S-shaped mode); a smaller one leaves the one unbalance at the largest
+MODE_COUPLE_FRACTION = 0.5
+#: two modes of interest of one rotor whose deflection lines have a MAC above this are one shape
+#: (a backward/forward pair): one case
+_SAME_SHAPE_MAC = 0.9
 
 
 @dataclass(frozen=True)
@@ -419,7 +432,7 @@ def _derivative(result, rows, w, order, groups=None):
     return amplitude * scale[None]
 
 
-def api_unbalance_cases(model, mcs: float):
+def api_unbalance_cases(model, mcs: float, reach: float = MODE_REACH):
     """The API 617 / API 684 unbalance cases of a model, each a model of its own.
 
     For every rotor ``j`` (maximum continuous speed ``N_j = |r_j| mcs`` [rpm]):
@@ -433,12 +446,23 @@ def api_unbalance_cases(model, mcs: float):
       bearings): a pure couple, whatever the place of the centre of mass. (Amounts from each
       bearing's own static load would cancel the couple about the centre of mass where the
       rotor overhangs its bearings: the lever rule's moment balance.)
+    - ``api-mode1:ROTOR``, ``api-mode2:ROTOR``, ... for a flexible rotor (one with a shaft): one
+      case per lateral mode of interest of the rotor (:func:`api_mode_placements`: the undamped
+      modes at the MCS up to ``reach`` times its 1X frequency whose kinetic energy is mostly this
+      rotor's lateral motion, a backward/forward pair once), numbered by ascending frequency among them, the
+      unbalance at the mode's antinodes (a mesh node each, by ``axial_position``): the static
+      amount at the largest, or, where an antinode of the other sign reaches half of it, the
+      couple amounts at the two, 180 deg apart. Rigid rotors have none.
 
     Parameters
     ----------
     model : Model
     mcs : float
         [rad/s] the reference rotor's maximum continuous speed, > 0.
+    reach : float
+        The modes of interest of a flexible rotor reach up to ``reach`` times its 1X frequency
+        ``N_j / 60`` [Hz] (default 1.3: the API separation margin's largest requirement, 26 %,
+        with room), >= 0.
 
     Returns
     -------
@@ -451,6 +475,7 @@ def api_unbalance_cases(model, mcs: float):
     cases = []
     if not model.rotors:
         raise InputError(f"{model.source}: the model has no [[rotors]]: no API unbalance case to make")
+    placements = None
     for rotor in model.rotors:
         n = abs(rotor.speed_ratio) * mcs * 30 / np.pi
         if n == 0:
@@ -460,6 +485,11 @@ def api_unbalance_cases(model, mcs: float):
         couple = _couple_unbalances(model, rotor, n)
         if couple:
             cases.append((f"api-couple:{rotor.name}", couple))
+        if rotor.flexible is not None:
+            if placements is None:             # one modal solution of the machine for every rotor
+                placements = api_mode_placements(model, mcs, reach)
+            for k, place in enumerate((p for p in placements if p.rotor == rotor.name), start=1):
+                cases.append((f"api-mode{k}:{rotor.name}", _mode_unbalances(model, rotor, n, place)))
     return [(name, Model.from_dict({**data, "unbalances": tables}, model.source)) for name, tables in cases]
 
 
@@ -488,6 +518,240 @@ def _couple_unbalances(model, rotor, n_rpm):
     amount = _api_amount(model, rotor, rotor.mass / 2, n_rpm)
     return [{"rotor": rotor.name, "amount": amount, "phase_deg": phase, "axial_offset": offset}
             for phase, offset in ((0.0, offsets[0]), (180.0, offsets[-1]))]
+
+
+@dataclass(frozen=True)
+class ModePlacement:
+    """Where a flexible rotor's API mode case puts its unbalance (:func:`api_mode_placements`).
+
+    Attributes
+    ----------
+    rotor : str
+    frequency_hz : float
+        The undamped mode's natural frequency at the MCS [Hz].
+    energy_share : float
+        The rotor's share of the mode's kinetic energy (its lateral motion), 0 to 1.
+    stations : tuple of float
+        [m] from the shaft's start (``axial_position``), each a mesh node: one (the largest
+        deflection) or two (a couple: the two antinodes, increasing).
+    phases_deg : tuple of float
+        ``(0.0,)`` or ``(0.0, 180.0)``.
+    position : ndarray, shape (N,) [m]
+        The mesh nodes, from the shaft's start.
+    deflection : ndarray, shape (N,)
+        The mode's lateral deflection at the nodes in its plane of largest motion, real, the
+        largest +1.
+    """
+
+    rotor: str
+    frequency_hz: float
+    energy_share: float
+    stations: tuple
+    phases_deg: tuple
+    position: np.ndarray
+    deflection: np.ndarray
+
+    @property
+    def couple(self) -> bool:
+        """True for an S-shaped mode's two unbalances 180 deg apart."""
+        return len(self.stations) == 2
+
+
+def api_mode_placements(model, mcs: float, reach: float = MODE_REACH) -> list:
+    """The lateral modes of interest of each flexible rotor and where its API mode case puts the
+    unbalance (:func:`api_unbalance_cases`' ``api-mode{k}:ROTOR``).
+
+    The machine's **undamped** modes at the reference speed ``mcs`` (every damping matrix left
+    out, the gyroscopic terms and each bearing's stiffness at that speed kept:
+    ``(lam^2 M + lam mcs G + K) phi = 0``, a dense eigen-solution of its states). A mode
+    ``phi`` of natural frequency ``f = Im(lam) / 2 pi`` is a **mode of interest** of flexible
+    rotor ``j`` (maximum continuous speed ``N_j = |r_j| mcs`` [rpm]) when
+
+    - ``0 < f <= reach N_j / 60``, and
+    - more than :data:`MODE_ENERGY_SHARE` (half) of its kinetic energy ``phi^H M phi`` is the
+      lateral motion (translation and tilt normal to the spin axis) of rotor ``j``'s shaft, disks
+      and point masses: the mode moves this rotor, not the casing, another rotor, or the shaft
+      along or about its axis;
+    - its deflection line is not one already taken (MAC above 0.9 with a lower one of the same
+      rotor: the backward/forward pair of one shape, or the two planes of anisotropic bearings,
+      give one case).
+
+    The deflection line is the lateral displacement at the mesh nodes in the transverse axis
+    (``a`` or ``b``) where the mode moves most, made real by the phase of its largest value (+1).
+    Its antinodes are the nodes whose ``|w|`` is at least their neighbours'. The unbalance goes
+    at the node of largest ``|w|`` (the static amount), unless an antinode of the opposite sign
+    reaches :data:`MODE_COUPLE_FRACTION` (half) of it: then at the largest such antinode and the
+    largest one, 180 deg apart (the couple amounts).
+
+    Parameters
+    ----------
+    model : Model
+    mcs : float
+        [rad/s] the reference rotor's maximum continuous speed, > 0.
+    reach : float
+        >= 0 (default :data:`MODE_REACH`).
+
+    Returns
+    -------
+    list of ModePlacement
+        Rotor by rotor in model order, each rotor's by ascending frequency.
+    """
+    if not (np.isfinite(mcs) and mcs > 0):
+        raise InputError(f"maximum continuous speed {mcs!r} rad/s: expected a finite speed > 0")
+    if not (isinstance(reach, (int, float, np.floating, np.integer)) and np.isfinite(reach) and reach >= 0):
+        raise InputError(f"reach {reach!r}: expected a finite number >= 0 (times the rotor's 1X frequency)")
+    flexible = [r for r in model.rotors if r.flexible is not None and r.speed_ratio != 0]
+    if not flexible:
+        return []
+    made = model.__dict__.setdefault("_api_mode_placements", {})
+    key = (float(mcs), float(reach))
+    if key not in made:
+        made[key] = _mode_placements(model, float(mcs), float(reach), flexible)
+    return list(made[key])
+
+
+#: models up to this many coordinates get their undamped modes from the dense eigen-solution of
+#: all their states; larger ones on a basis of the lowest modes of their symmetric parts
+_FULL_STATES_DOF = 400
+#: the basis reaches this many times the highest frequency of interest (the gyroscopic terms couple
+#: a mode to its neighbours in frequency only)
+_BASIS_REACH = 4.0
+#: and holds at least this many modes
+_BASIS_MODES = 24
+
+
+def _undamped_modes(model, speed, top_hz):
+    """``(frequencies [Hz] (m,), shapes (m, n), M)``: the undamped oscillating modes at ``speed``
+    [rad/s] up to ``top_hz`` at least, increasing (dense or sparse ``M``)."""
+    from ..assembly import is_large, sparse_bearing_matrices, sparse_constant_matrices
+
+    if is_large(model):
+        M, _, G, K = sparse_constant_matrices(model)
+        if model.speed_dependent:
+            K = K + sparse_bearing_matrices(model, speed, dependent_only=True)[0]
+    else:
+        M, _, G, K = (np.asarray(x) for x in model.matrices(speed))
+    n = M.shape[0]
+    if n <= _FULL_STATES_DOF:
+        values, shapes = _state_modes(M, speed * G, K)
+    else:
+        basis = _symmetric_basis(M, K, 2 * np.pi * _BASIS_REACH * top_hz)
+        project = lambda X: np.asarray(basis.T @ (X @ basis))             # noqa: E731
+        values, reduced = _state_modes(project(M), speed * project(G), project(K))
+        shapes = reduced @ basis.T
+    return values.imag / (2 * np.pi), shapes, M
+
+
+def _state_modes(M, G, K):
+    """The oscillating roots ``lam`` (Im > 0, increasing) and shapes (m, n) of
+    ``(lam^2 M + lam G + K) phi = 0``, from a dense eigen-solution of the states."""
+    import scipy.linalg
+
+    from . import _batches
+
+    n = len(M)
+    eye, zero = np.eye(n), np.zeros((n, n))
+    A = np.block([[zero, eye], [-K, -G]])
+    B = np.block([[eye, zero], [zero, M]])
+    with _batches.one_blas_thread(72 * (2 * n) ** 2):
+        values, vectors = scipy.linalg.eig(A, B)
+    finite = np.isfinite(values)
+    largest = float(np.abs(values[finite]).max()) if finite.any() else 0.0
+    keep = np.flatnonzero(finite & (values.imag > 1e-9 * largest))
+    keep = keep[np.argsort(values[keep].imag)]
+    return values[keep], vectors[:n, keep].T
+
+
+def _symmetric_basis(M, K, top):
+    """(n, b): the modes of ``(sym K, M)`` up to ``top`` [rad/s] and at least :data:`_BASIS_MODES`
+    (M-orthonormal; dense ``eigh`` or sparse shift-invert ``eigsh``, shifted below zero: a free
+    motion's zero stiffness is no pole)."""
+    import scipy.linalg
+    import scipy.sparse
+    import scipy.sparse.linalg
+
+    from . import _batches
+
+    n = M.shape[0]
+    Ks = 0.5 * (K + K.T)
+    if not scipy.sparse.issparse(M):
+        with _batches.one_blas_thread(72 * n ** 2):
+            squares, vectors = scipy.linalg.eigh(Ks, M)
+        count = max(int(np.count_nonzero(squares <= top ** 2)), min(_BASIS_MODES, n))
+        return vectors[:, :count]
+    shift = -max(1e-6 * top ** 2, 1e-12)
+    count = min(_BASIS_MODES, n - 2)
+    while True:
+        squares, vectors = scipy.sparse.linalg.eigsh(Ks.tocsc(), k=count, M=M.tocsc(), sigma=shift, which="LM")
+        order = np.argsort(squares)
+        squares, vectors = squares[order], vectors[:, order]
+        if squares[-1] > top ** 2 or count >= n - 2:
+            return vectors
+        count = min(2 * count, n - 2)
+
+
+def _mode_placements(model, mcs, reach, rotors):
+    from ..assembly import flexible_rotor_matrices
+    from ..model.geometry import transverse_axes
+
+    top = reach * mcs / (2 * np.pi) * max(abs(r.speed_ratio) for r in rotors)       # [Hz]
+    frequencies, shapes, M = _undamped_modes(model, mcs, top)
+    e = np.asarray(model.spin_axis, dtype=float)
+    a, b = transverse_axes(e)
+    totals = np.array([np.real(phi.conj() @ (M @ phi)) for phi in shapes])
+    out = []
+    for rotor in rotors:
+        top = reach * abs(rotor.speed_ratio) * mcs / (2 * np.pi)          # [Hz]
+        parts = flexible_rotor_matrices(model, rotor, kinds=("M",))
+        z = np.asarray(rotor.flexible.mesh.z, dtype=float)
+        kept = []
+        for f, phi, total in zip(frequencies, shapes, totals):
+            if f > top * (1 + 1e-12) or not total > 0:
+                continue
+            motion = np.asarray(parts.motion @ phi).reshape(-1, 6)
+            lateral = motion.copy()
+            lateral[:, :3] -= np.outer(motion[:, :3] @ e, e)
+            lateral[:, 3:] -= np.outer(motion[:, 3:] @ e, e)
+            lateral = lateral.ravel()
+            share = float(np.real(lateral.conj() @ (parts.M @ lateral)) / total)
+            if not share > MODE_ENERGY_SHARE:
+                continue
+            u = motion[:, :3]
+            planes = [u @ a, u @ b]
+            plane = max(planes, key=lambda w: float(np.abs(w).max()))
+            w = plane / plane[int(np.argmax(np.abs(plane)))]
+            w = w.real
+            if any(abs(w @ p.deflection) ** 2 > _SAME_SHAPE_MAC * (w @ w) * (p.deflection @ p.deflection)
+                   for p in kept):
+                continue
+            stations, phases = _antinode_stations(z, w)
+            kept.append(ModePlacement(rotor.name, float(f), share, stations, phases, z, w))
+        out += kept
+    return out
+
+
+def _antinode_stations(z, w):
+    """``(stations, phases)`` of a deflection line ``w`` (largest +1) at nodes ``z``: the largest,
+    or it and the largest antinode of the other sign reaching :data:`MODE_COUPLE_FRACTION` of it."""
+    size = np.abs(w)
+    i0 = int(np.argmax(size))
+    left = np.concatenate([[-np.inf], size[:-1]])
+    right = np.concatenate([size[1:], [-np.inf]])
+    antinodes = np.flatnonzero((size >= left) & (size >= right))
+    other = [i for i in antinodes if np.sign(w[i]) == -np.sign(w[i0]) and size[i] >= MODE_COUPLE_FRACTION * size[i0]]
+    if not other:
+        return (float(z[i0]),), (0.0,)
+    i1 = max(other, key=lambda i: size[i])
+    first, second = sorted((i0, i1))
+    return (float(z[first]), float(z[second])), (0.0, 180.0)
+
+
+def _mode_unbalances(model, rotor, n_rpm, place):
+    """The ``[[unbalances]]`` tables of a rotor's mode case at ``place`` (a :class:`ModePlacement`)."""
+    mass = rotor.mass if not place.couple else rotor.mass / 2
+    amount = _api_amount(model, rotor, mass, n_rpm)
+    return [{"rotor": rotor.name, "amount": amount, "phase_deg": phase, "axial_position": z}
+            for z, phase in zip(place.stations, place.phases_deg)]
 
 
 def sensor_groups(model) -> dict:

@@ -63,7 +63,12 @@ and written by --checks FILE.csv; --plot draws the probe limits and a velocity p
 --api-unbalance (with --mcs) replaces the model's [[unbalances]] by the API 617/684
 cases of every rotor, Ua = 2 Ur, Ur = 6350 W/N g mm (= 4 W/N oz in): api-static:ROTOR at its centre
 of mass (W its mass) and api-couple:ROTOR at its outermost bearing planes, 180 deg apart
-(W half its mass: a pure couple); each case is its own response, named in a last column
+(W half its mass: a pure couple); for a flexible rotor (one with a shaft) also
+api-mode1:ROTOR, api-mode2:ROTOR, ... one per lateral mode of interest (the undamped modes at
+the MCS up to 1.3 x the rotor's 1X frequency, most of their kinetic energy its lateral motion; a
+backward/forward pair once, by ascending frequency) at the mesh node of the mode's largest
+deflection (W its mass), or, where an antinode of the opposite sign reaches half of it, at the
+two antinodes 180 deg apart (W half its mass); each case is its own response, named in a last column
 case of the CSV, peaks and checks tables, and in the figure's legend.
 With --mcs, a model with close-clearance stations ([[rotors.clearances]]) gets the API
 617/684 clearance check, printed after the checks: at each station the peak-to-peak

@@ -390,22 +390,35 @@ def _sweep_counts(model, inputs) -> dict:
         counts["ucs"] = _map_values(model, stiffness)
     if "unbalance" in sections and model.sensors:
         if inputs.standard != "iso":
-            counts["unbalance"] = (_api_cases(model), speeds)
+            counts["unbalance"] = (_api_cases(model, inputs.mcs), speeds)
         elif model.unbalances:
             counts["unbalance"] = (len({u.rotor for u in model.unbalances}), speeds)
     return counts
 
 
-def _api_cases(model) -> int:
+def _api_cases(model, mcs=None) -> int:
     """How many API unbalance cases :func:`..analysis.unbalance_checks.api_unbalance_cases`
     makes, without making them (each is a model of its own): a static case per turning rotor,
-    and a couple case for one on bearings at two axial places or more."""
-    return len(_api_case_ratios(model))
+    a couple case for one on bearings at two axial places or more, and a flexible rotor's mode
+    cases at ``mcs`` [rad/s] (counted where it is given)."""
+    return len(_api_case_ratios(model, mcs))
 
 
-def _api_case_ratios(model) -> list:
+def _api_case_ratios(model, mcs=None) -> list:
     """The speed ratio of each API unbalance case's rotor, in the order
-    :func:`..analysis.unbalance_checks.api_unbalance_cases` makes them (not made here)."""
+    :func:`..analysis.unbalance_checks.api_unbalance_cases` makes them (not made here; a flexible
+    rotor's mode cases from :func:`..analysis.unbalance_checks.api_mode_placements` at ``mcs``
+    [rad/s], one undamped modal solution kept on the model for the cases: none without ``mcs`` or
+    where the model's matrices cannot be had, the cases then refusing it by name)."""
+    from ..analysis.unbalance_checks import api_mode_placements
+    from ..errors import ModelError
+
+    placements = []
+    if mcs is not None and any(r.flexible is not None and r.speed_ratio != 0 for r in model.rotors):
+        try:
+            placements = api_mode_placements(model, mcs)
+        except (InputError, ModelError, np.linalg.LinAlgError, ValueError):
+            placements = []
     ratios = []
     for rotor in model.rotors:
         if rotor.speed_ratio == 0:
@@ -413,7 +426,8 @@ def _api_case_ratios(model) -> list:
         centre = np.asarray(rotor.center_of_mass, dtype=float)
         places = {float((np.asarray(b.position, dtype=float) - centre) @ model.spin_axis)
                   for b in model.bearings_of(rotor.name)}
-        ratios += [abs(float(rotor.speed_ratio))] * (1 + (len(places) >= 2))
+        modes = sum(p.rotor == rotor.name for p in placements)
+        ratios += [abs(float(rotor.speed_ratio))] * (1 + (len(places) >= 2) + modes)
     return ratios
 
 
@@ -637,7 +651,7 @@ def _searched_ratios(model, inputs) -> list:
     """The speed ratio of each source whose damped critical speeds the unbalance response looks
     for: each API case's rotor (each unbalanced rotor for ``iso``)."""
     if inputs.standard != "iso":
-        return _api_case_ratios(model)
+        return _api_case_ratios(model, inputs.mcs)
     rotors = sorted({u.rotor for u in model.unbalances})
     return [abs(float(model.rotor(name).speed_ratio)) for name in rotors]
 

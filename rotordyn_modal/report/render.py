@@ -534,7 +534,9 @@ def _unbalance(data, units) -> str:
     chosen = data.inputs.amplitude
     # the same amount (API 617): 4 oz in/lb = 6350 g mm/kg
     amount = "6350 W/N g mm (W in kg" if units == "si" else "4 W/N oz in (W in lb"
-    amount += ", N the MCS in rpm; api-static at the centre of mass, api-couple at the outermost bearings)"
+    amount += (", N the MCS in rpm; api-static at the centre of mass, api-couple at the outermost bearings; for a "
+               "flexible rotor api-mode1, api-mode2, ... for each lateral mode up to 1.3 x its 1X frequency, at the "
+               "node of the mode's largest deflection, or a couple of W/2 at its two antinodes of opposite sign)")
     what = ("the model's [[unbalances]]" if data.inputs.standard == "iso" else
             f"the API 617/684 unbalance cases Ua = 2 Ur, Ur = {amount}, each case on its own")
     parts = [_heading("unbalance"), f"<p>Response to {escape(what)}.</p>",

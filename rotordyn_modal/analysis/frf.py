@@ -339,10 +339,40 @@ def _singular(model, speed, omega) -> InputError:
         except (np.linalg.LinAlgError, RuntimeError):
             at = f" at {f / (2 * np.pi):.6g} Hz, reference speed {s * 30 / np.pi:.6g} rpm"
             break
+    if at and f == 0:
+        free = _free_motion(model, s)
+        if free:
+            return InputError(f"{model.source}: the dynamic stiffness K - w^2 M + i w (C + Omega G) is singular in "
+                              f"double precision{at}: at 0 Hz it is the stiffness alone, and the model is free to "
+                              f"move along {free} (a rigid-body motion that no suspension or bearing holds: 'check' "
+                              "counts the directions held); start the frequencies above 0 Hz, or give that motion "
+                              "a stiffness")
     return InputError(f"{model.source}: the dynamic stiffness K - w^2 M + i w (C + Omega G) is singular in "
                       f"double precision{at}: an undamped resonance there, or stiffnesses and masses many "
                       "orders of magnitude apart (the model's warnings say where); add damping or move the "
                       "frequencies")
+
+
+#: the most coordinates whose free motion :func:`_free_motion` names (one dense SVD of the stiffness)
+_FREE_MOTION_LARGEST = 2000
+
+
+def _free_motion(model, speed) -> str:
+    """The coordinates a singular stiffness ``K(speed)`` leaves free, as ``'stator.ux'`` or
+    ``'stator.ux and stator.ry'``: those of at least half the largest entry of its null vector (the
+    right singular vector of its smallest singular value), at most three; ``''`` where the model
+    has more than :data:`_FREE_MOTION_LARGEST` coordinates or the SVD fails."""
+    names = list(model.dofs.names)
+    if len(names) > _FREE_MOTION_LARGEST:
+        return ""
+    try:
+        stiffness = np.asarray(model.matrices(speed)[3], dtype=float)
+        null = np.linalg.svd(stiffness)[2][-1]
+    except (np.linalg.LinAlgError, ValueError):
+        return ""
+    size = np.abs(null)
+    order = [int(i) for i in np.argsort(-size, kind="stable") if size[i] >= 0.5 * size.max()][:3]
+    return " and ".join(names[i] for i in order)
 
 
 def stiffness_terms(model) -> "_StiffnessTerms":

@@ -116,8 +116,19 @@ def unbalance_forces(model, speeds):
 
 def _force(u, a, b, s, w) -> np.ndarray:
     """The complex force of unbalance ``u`` (N, 3) [N] at spin signs ``s`` and frequencies ``w``."""
-    direction = np.exp(1j * s * np.radians(u.phase_deg))[:, None] * (a - 1j * s[:, None] * b)
+    direction = degree_phasor(u.phase_deg, s)[:, None] * (a - 1j * s[:, None] * b)
     return u.amount * w[:, None] ** 2 * direction
+
+
+def degree_phasor(phase_deg, sign=1.0):
+    """``exp(i sign phase)`` of a phase in degrees, exact where the phase is a multiple of 90 deg
+    (``scipy.special.cosdg``, ``sindg``): ``exp(1j * radians(180))`` has an imaginary part of
+    1.2e-16, so two equal unbalances 180 deg apart left a force of that size and a response
+    of 1e-21 m printed at a phase of 178 deg instead of none. ``sign`` (array_like): the spin
+    signs, +-1."""
+    import scipy.special
+
+    return scipy.special.cosdg(phase_deg) + 1j * np.asarray(sign) * scipy.special.sindg(phase_deg)
 
 
 def _flexible_generalized(model, name: str, speeds) -> np.ndarray:

@@ -359,6 +359,16 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
     return ratios_of_forms(values, speeds)
 
 
+def about_spin_axis(ratios, speeds) -> np.ndarray:
+    """Whirl ratios ``ratios`` (relative to the spin, as every table gives them) about
+    ``+spin_axis``: the spin's sign undone, which a negative speed reverses (zero speed counts as
+    +). ``speeds`` [rad/s] a scalar or of the leading shape of ``ratios`` (a speed per row)."""
+    speeds = np.asarray(speeds, dtype=float)
+    ratios = np.asarray(ratios, dtype=float)
+    sign = np.where(speeds < 0, -1.0, 1.0)
+    return ratios * sign.reshape(sign.shape + (1,) * (ratios.ndim - sign.ndim))
+
+
 def ratios_of_forms(values, speeds) -> np.ndarray:
     """:func:`whirl_ratios` from the shapes' quadratic forms ``values`` (..., m, 3), complex:
     ``phi^H X phi`` of W, N and total (a shape known by its coordinates in a subspace: the forms

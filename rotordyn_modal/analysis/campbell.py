@@ -302,7 +302,7 @@ class CampbellResult:
     def _whirl_about_axis(self) -> np.ndarray:
         """(N, n_modes): each whirl ratio about ``+spin_axis`` (the table's is relative to the
         spin, which a negative speed reverses; zero speed counts as +)."""
-        return self.whirl_ratios * np.where(self.speeds < 0, -1.0, 1.0)[:, None]
+        return _whirl.about_spin_axis(self.whirl_ratios, self.speeds)
 
     def to_dataframe(self, oscillatory_only: bool = True):
         """Long table ``speed_rpm, mode, frequency_hz, damping_ratio, log_decrement, whirl, whirl_ratio,
@@ -589,7 +589,7 @@ def _relabel_by_frequency(order, values, speeds, stack=None, shapes=None):
     if stack is not None and shapes is not None and _has_ties(at_k0):
         ratios = stack.whirl_ratios(np.asarray(shapes[:, k0]), np.arange(len(order)),
                                     np.full(len(order), speeds[k0]))
-        whirl = ratios[variants, order[:, k0]] * (-1.0 if speeds[k0] < 0 else 1.0)       # about +spin_axis
+        whirl = _whirl.about_spin_axis(ratios[variants, order[:, k0]], speeds[k0])
     labels = _eigensolve.frequency_order(at_k0, ~is_oscillating(at_k0), whirl)
     return order[variants[..., None], np.arange(order.shape[1])[:, None], labels[:, None, :]]
 

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..linear_system import speed_linear_form
 from . import _arnoldi, _batches, _eigensolve, _roots
+from ._whirl import about_spin_axis
 from .modal import is_oscillating
 
 __all__ = ["numbers_at_speed", "number_of_root", "numbers_at_crossings", "repeated_in_whirl_order"]
@@ -92,7 +93,7 @@ def repeated_in_whirl_order(speeds, eigenvalues, whirl_ratios, numbers, modes) -
     """
     speeds, eigenvalues = np.asarray(speeds, dtype=float), np.asarray(eigenvalues)
     modes, out = np.asarray(modes, dtype=int), np.array(numbers, dtype=int)
-    about_axis = np.asarray(whirl_ratios, dtype=float) * np.where(speeds < 0, -1.0, 1.0)     # 0 counts as +
+    about_axis = about_spin_axis(whirl_ratios, speeds)
     for number in np.unique(out[out > 0]):
         rows = np.flatnonzero(out == number)
         while len(rows) > 1:

@@ -129,7 +129,7 @@ class StabilityResult:
         turning = {"forward": 1.0, "backward": -1.0}
         about_axis = np.vectorize(lambda w: turning.get(w, 0.0), otypes=[float])(self.whirl) if self.whirl.size else None
         if about_axis is not None:
-            about_axis = about_axis * np.where(self.speeds < 0, -1.0, 1.0)[:, None]
+            about_axis = _whirl.about_spin_axis(about_axis, self.speeds)
         return numbers_at_speed(self.eigenvalues, about_axis)
 
     @property

@@ -1303,12 +1303,14 @@ def tracked_numbers(campbell, mcs, numbers) -> tuple:
     """The Campbell sweep's (tracked) number of each mode ``numbers`` as ``modes --speed MCS``
     numbers them: the column whose root at the sweep's speed nearest ``mcs`` [rad/s] (the MCS is
     among the report's speeds) ``modes`` numbers so; 0 where none is; () without a sweep."""
+    from ..analysis._whirl import about_spin_axis
     from ..analysis.mode_numbers import numbers_at_speed
 
     if campbell is None:
         return ()
     k = int(np.argmin(np.abs(np.abs(campbell.speeds) - mcs)))
-    about_axis = campbell.whirl_ratios[k] * (-1.0 if campbell.speeds[k] < 0 else 1.0)     # a repeated root's members
+    # a repeated root's members by their whirl about +spin_axis
+    about_axis = about_spin_axis(campbell.whirl_ratios[k], campbell.speeds[k])
     at_mcs = numbers_at_speed(campbell.eigenvalues[k], about_axis)
     return tuple(int(campbell.modes[np.flatnonzero(at_mcs == n)[0]]) if (at_mcs == n).any() else 0
                  for n in numbers)

@@ -417,11 +417,11 @@ def _derivative(result, rows, w, order, groups=None):
     """0-peak amplitude of derivative ``order`` (0 displacement, 1 velocity) of the rows'
     response, shape (n_rows, n_sources, N); NaN where the frequency is 0 and must divide. With
     ``groups`` (:func:`same_frequency_groups`), one harmonic per group, shape (n_rows, n_groups,
-    N): the modulus of the sum of its sources' complex amplitudes ``a e^{i phase}`` (one frequency:
+    N): the modulus of the sum of its sources' complex amplitudes ``response`` (one frequency:
     one time signal ``Re(sum_j X_j e^{i w t})``, docs/model-file.md "Unbalance phase reference")."""
     amplitude = result.amplitude[rows]
     if groups is not None:
-        phasor = amplitude * np.exp(1j * np.deg2rad(result.phase_deg[rows]))
+        phasor = result.response[rows]
         amplitude = np.stack([np.abs(phasor[:, group].sum(axis=1)) for group in groups], axis=1)
         w = w[[group[0] for group in groups]]
     power = order - _ORDER[result.quantity]

@@ -22,7 +22,7 @@ from .assembly import Matrices, bearing_motion, constant_matrices, constant_stif
     dependent_bearing_matrices, excitation_columns, is_large, mass_matrix, sensor_rows, sparse_constant_matrices
 from .elements.bearings import evaluate
 from .errors import InputError, ModelError
-from .model._table import LARGEST
+from . import _arguments
 from .model.dofs import frame_block
 from .stiffness_spread import refuse_lost_digits
 from .elements.mounts import maxwell_branch_blocks, with_branch_states
@@ -524,7 +524,7 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
     """
     import control
 
-    speed = _checked_speed(speed)
+    speed = _arguments.speed(speed)
     if quantity not in _QUANTITY_ORDER:
         raise InputError(f"quantity {quantity!r}: expected one of {', '.join(_QUANTITY_ORDER)}")
     columns = excitation_columns(model, inputs)
@@ -542,28 +542,6 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
     states = [f"q{i}" for i in range(n)] + [f"dq{i}" for i in range(n)] + branch_states
     return control.ss(a, b, c, d, inputs=input_names or None, outputs=output_names or None,
                       states=states, name=model.name or None)
-
-
-def _checked_speed(speed) -> float:
-    """``speed`` [rad/s] as one finite float of magnitude at most ``LARGEST``, else an
-    ``InputError`` naming it, in ``rdm.modal``'s words (a NaN gave a system of NaN matrices)."""
-    plain = speed.tolist() if isinstance(speed, (np.ndarray, np.generic)) else speed
-    shown = " ".join(repr(plain).split())[:80]
-    expected = "one finite number [rad/s]"
-    try:
-        array = np.asarray(speed)
-    except (TypeError, ValueError):
-        raise InputError(f"speed = {shown}: expected {expected}") from None
-    if array.dtype.kind not in "iuf":
-        raise InputError(f"speed = {shown}: expected {expected}")
-    if array.ndim:
-        raise InputError(f"speed = {shown}: expected {expected}, got an array of shape {array.shape}")
-    if not np.isfinite(array):
-        raise InputError(f"speed = {shown}: expected {expected}")
-    if abs(float(array)) > LARGEST:
-        raise InputError(f"speed = {shown}: expected a speed of magnitude at most {LARGEST:g} rad/s (beyond it "
-                         "the gyroscopic terms of the model's numbers overflow)")
-    return float(array)
 
 
 def _refuse_outputs_without_inputs(model, inputs, n_outputs: int, n_inputs: int) -> None:

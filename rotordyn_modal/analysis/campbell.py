@@ -15,7 +15,8 @@ import numpy as np
 from .._limits import memory_problem
 from .._progress import phase
 from ..errors import InputError
-from . import _arguments, _batches, _eigensolve, _roots, _whirl
+from .. import _arguments
+from . import _batches, _eigensolve, _roots, _whirl
 from ._stack import Stack
 from .critical_speeds import (_SUB_DEPTH, _SUB_SPEEDS, JUMP_TOLERANCE, ROUND_OFF_RELATIVE, WHIRL_ROUND_OFF,
                               CriticalSpeeds, ExcitationSources, _critical_table, _find_critical_speeds,

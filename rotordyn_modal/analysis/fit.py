@@ -32,7 +32,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..linear_system import speed_linear_form
-from ._arguments import _shown
+from .._arguments import _shown
 from .frf import frf_of_checked_model
 
 __all__ = ["FitResult", "fit"]

@@ -30,7 +30,8 @@ import numpy as np
 from ..assembly import excitation_columns, rotor_matrices
 from ..elements.bearings import evaluate
 from ..model.geometry import shift_matrices, shift_matrix
-from . import _arguments, _batches
+from .. import _arguments
+from . import _batches
 from .frf import FRFResult, _broadcast, _check_frequencies, _names, dof_response
 
 __all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "all_forces", "force_frf", "COMPONENTS"]

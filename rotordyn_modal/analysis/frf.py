@@ -34,7 +34,8 @@ from ..assembly import constant_matrices, dependent_bearing_matrices, excitation
 from ..errors import InputError
 from ..model._table import visible_names
 from ..elements.mounts import has_frequency_dependence, maxwell_frame_stiffness, maxwell_stiffness
-from . import _arguments, _batches, _eigensolve
+from .. import _arguments
+from . import _batches, _eigensolve
 
 __all__ = ["FRFResult", "frf", "frf_of_checked_model", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
 

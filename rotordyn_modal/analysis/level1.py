@@ -30,7 +30,8 @@ from ..linear_system import speed_linear_form
 from ..model._table import LARGEST
 from ..model.geometry import transverse_axes
 from ..units import to_system, unit_label
-from . import _arguments, _eigensolve, _vectors, _whirl
+from .. import _arguments
+from . import _eigensolve, _vectors, _whirl
 from .modal import is_oscillating, modal_quantities
 from .tracking import track_modes
 

@@ -10,7 +10,8 @@ import numpy as np
 from ..model.flexible import ENERGY_ROUND_OFF as _ENERGY_ROUND_OFF
 from ..model.geometry import point_motion_row
 from ..linear_system import speed_linear_form
-from . import _arguments, _batches, _eigensolve, _roots, _vectors, _whirl
+from .. import _arguments
+from . import _batches, _eigensolve, _roots, _vectors, _whirl
 
 __all__ = ["ModalResult", "modal", "mac", "modal_quantities", "is_oscillating", "OVERDAMPED_LIMIT",
            "strain_energy_fractions", "BENDING_FRACTION"]

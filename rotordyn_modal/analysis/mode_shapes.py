@@ -591,7 +591,7 @@ def mode_shape_3d(result, model, mode: int, scale: float | None = None, outline=
     """
     k = mode_index(result, mode)
     if scale is not None:      # NaN or inf drew a shape of NaN motions without a word; refused before the work
-        from ._arguments import number
+        from .._arguments import number
 
         scale = number(scale, "scale", "m per unit modal amplitude")
     drawing = machine_outline(model, outline)
@@ -808,7 +808,7 @@ def shaft_lines(result, model, mode: int, points_per_element: int = _POINTS_PER_
     from ..model.dofs import _axis_letters
     from ..model.geometry import transverse_axes
 
-    from ._arguments import whole_number
+    from .._arguments import whole_number
 
     k = mode_index(result, mode)
     points_per_element = whole_number(points_per_element, "points_per_element", 0, MAX_POINTS_PER_ELEMENT)

@@ -569,7 +569,7 @@ def _map_variant(model, key: str, value: float, scaled: bool):
     import re
 
     from ..errors import ModelError
-    from ._arguments import _shown
+    from .._arguments import _shown
 
     try:
         return model.scaled({key: value}) if scaled else model.with_values({key: value})

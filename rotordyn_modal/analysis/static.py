@@ -47,7 +47,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _arguments
+from .. import _arguments
 from .shaft_statics import shaft_statics, weight_force
 from ..assembly import (bearing_motion, generalized_force, pedestal_stiffness_damping, pedestal_weights, shaft_stiffness,
                         weights)

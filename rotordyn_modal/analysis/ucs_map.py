@@ -43,7 +43,8 @@ from ..errors import InputError
 from ..linear_system import checked_mass_inverse
 from ..model._table import visible_names
 from ..model.geometry import skew
-from . import _arguments, _batches, _eigensolve, _vectors, _whirl
+from .. import _arguments
+from . import _batches, _eigensolve, _vectors, _whirl
 
 __all__ = ["UcsMap", "BearingCurve", "Crossing", "ucs_map", "forward_critical_speeds"]
 

@@ -32,7 +32,7 @@ from ..linear_system import speed_linear_form
 from ..model.components import Sensor
 from ..model.geometry import cross, shift_matrices, transverse_axes
 from ..unbalance_standards import amplitude_column, amplitude_factor, required_separation_margin
-from . import _arguments
+from .. import _arguments
 from .forces import COMPONENTS, centre_motions, all_forces
 from .frf import dof_response
 from .orbits import orbit_ellipses, precession_labels, probe_pairs

@@ -500,7 +500,7 @@ def _at_first_speed(model, speed, final_speed, solve, form=None) -> float:
     first of the speeds 0, ``speed`` and ``final_speed`` [rad/s] that the model takes (bearing tables
     may not reach 0); 0 where it takes none (a model without restoring force still simulates). A fault
     of the model (:class:`ModelError`, not of one speed) and :class:`_NoBound` raise. ``form``: see :func:`_form_once`."""
-    from ..analysis import _arguments
+    from .. import _arguments
 
     form = form or _form_once(model)
     for at in [v for v in (0.0, speed, final_speed) if v is not None]:

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
-from ..model._table import LARGEST
+from .errors import InputError
+from .model._table import LARGEST
 
 __all__ = ["speed", "values", "speeds", "frequencies", "orders", "whole_number", "number"]
 
